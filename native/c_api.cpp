@@ -1,0 +1,259 @@
+// The C ABI (developable.h): converts buffers and parameters, calls the
+// pipeline, and catches everything. No logic of its own.
+#include "developable.h"
+
+#include "mesh_input.h"
+#include "pipeline.h"
+
+#include <algorithm>
+#include <cstring>
+#include <new>
+#include <string>
+
+#ifndef DEVELOPABLE_VERSION
+#define DEVELOPABLE_VERSION "0.0.0"
+#endif
+
+struct dev_result {
+  developable::PipelineResult pipeline;
+};
+
+namespace {
+
+using developable::EngineError;
+using developable::Status;
+
+void write_message(char* message, size_t capacity, const std::string& text) {
+  if (message == nullptr || capacity == 0) return;
+  const size_t length = std::min(capacity - 1, text.size());
+  std::memcpy(message, text.data(), length);
+  message[length] = '\0';
+}
+
+// Runs `body`, turning every exception into a status and a message.
+template <typename Body>
+int32_t guarded(char* message, size_t capacity, Body&& body) {
+  try {
+    body();
+    write_message(message, capacity, "ok");
+    return DEV_STATUS_OK;
+  } catch (const EngineError& e) {
+    write_message(message, capacity, e.what());
+    return static_cast<int32_t>(e.status());
+  } catch (const std::bad_alloc&) {
+    write_message(message, capacity, "out of memory: the mesh is too large for this machine");
+    return DEV_STATUS_OUT_OF_MEMORY;
+  } catch (const std::exception& e) {
+    write_message(message, capacity, std::string("internal error: ") + e.what());
+    return DEV_STATUS_INTERNAL_ERROR;
+  } catch (...) {
+    write_message(message, capacity, "internal error: unknown exception");
+    return DEV_STATUS_INTERNAL_ERROR;
+  }
+}
+
+void require(bool ok, const char* what) {
+  if (!ok) throw EngineError(Status::invalid_argument, what);
+}
+
+// Counts as given by the caller, checked before anything is read.
+void check_buffers(const double* positions, int64_t n_vertices, const int32_t* triangles,
+                   int64_t n_triangles) {
+  require(n_vertices >= 0 && n_triangles >= 0, "vertex and triangle counts must not be negative");
+  require(n_vertices <= (int64_t{1} << 31) && n_triangles <= (int64_t{1} << 31),
+          "the mesh has more than 2^31 vertices or triangles");
+  if (n_vertices == 0) throw EngineError(Status::empty_input, "the mesh has no vertices");
+  if (n_triangles == 0) throw EngineError(Status::empty_input, "the mesh has no triangles");
+  require(positions != nullptr, "positions is a null pointer");
+  require(triangles != nullptr, "triangles is a null pointer");
+}
+
+developable::Positions copy_positions(const double* data, int64_t n) {
+  return Eigen::Map<const developable::Positions>(data, static_cast<Eigen::Index>(n), 3);
+}
+
+developable::Triangles copy_triangles(const int32_t* data, int64_t n) {
+  return Eigen::Map<const developable::Triangles>(data, static_cast<Eigen::Index>(n), 3);
+}
+
+developable::PipelineOptions to_options(const dev_params& p) {
+  developable::PipelineOptions o;
+  o.omega = p.omega;
+  o.tolerance = p.tolerance;
+  o.max_iterations = p.max_iterations;
+  require(p.mode == DEV_MODE_REFIT || p.mode == DEV_MODE_PAPER, "mode must be DEV_MODE_REFIT or DEV_MODE_PAPER");
+  o.mode = p.mode == DEV_MODE_PAPER ? developable::Mode::paper : developable::Mode::refit;
+  require(p.solver == DEV_SOLVER_DECOUPLED || p.solver == DEV_SOLVER_COUPLED,
+          "solver must be DEV_SOLVER_DECOUPLED or DEV_SOLVER_COUPLED");
+  o.solver = p.solver == DEV_SOLVER_COUPLED ? developable::Formulation::coupled
+                                            : developable::Formulation::decoupled;
+  o.pin_boundary = p.pin_boundary != 0;
+  o.use_mls_weights = p.use_mls_weights != 0;
+  o.stop_relative_change = p.stop_relative_change;
+  o.developable_threshold = p.developable_threshold;
+  o.segmentation = p.segmentation;
+  o.segmentation_options.target_patches = p.target_patches;
+  o.segmentation_options.max_fit_error = p.segment_max_error;
+  require(p.seams == DEV_SEAMS_FREE || p.seams == DEV_SEAMS_PINNED,
+          "seams must be DEV_SEAMS_FREE or DEV_SEAMS_PINNED");
+  o.seams = p.seams == DEV_SEAMS_PINNED ? developable::Seams::pinned : developable::Seams::free;
+  if (p.grid_resolution != 0) o.curve_options.grid_resolution = p.grid_resolution;
+  return o;
+}
+
+bool call_progress(double fraction, const char* stage, void* user) {
+  auto* callback = static_cast<std::pair<dev_progress_fn, void*>*>(user);
+  return callback->first(fraction, stage, callback->second) != 0;
+}
+
+template <typename T, typename Source>
+int32_t copy_out(const dev_result* result, T* out, int64_t capacity, Source&& source) {
+  if (result == nullptr || out == nullptr) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& values = source(result->pipeline);
+  const int64_t size = static_cast<int64_t>(values.size());
+  if (capacity < size) return DEV_STATUS_INVALID_ARGUMENT;
+  std::copy(values.data(), values.data() + size, out);
+  return DEV_STATUS_OK;
+}
+
+}  // namespace
+
+extern "C" {
+
+int32_t dev_abi_version(void) { return DEV_ABI_VERSION; }
+
+const char* dev_version_string(void) { return DEVELOPABLE_VERSION; }
+
+void dev_default_params(dev_params* params) {
+  if (params == nullptr) return;
+  const developable::PipelineOptions o;
+  params->omega = o.omega;
+  params->tolerance = o.tolerance;
+  params->max_iterations = o.max_iterations;
+  params->mode = DEV_MODE_REFIT;
+  params->pin_boundary = o.pin_boundary ? 1 : 0;
+  params->use_mls_weights = o.use_mls_weights ? 1 : 0;
+  params->stop_relative_change = o.stop_relative_change;
+  params->developable_threshold = o.developable_threshold;
+  params->segmentation = o.segmentation;
+  params->target_patches = o.segmentation_options.target_patches;
+  params->segment_max_error = o.segmentation_options.max_fit_error;
+  params->seams = DEV_SEAMS_FREE;
+  params->grid_resolution = o.curve_options.grid_resolution;
+  params->solver = o.solver == developable::Formulation::coupled ? DEV_SOLVER_COUPLED
+                                                                 : DEV_SOLVER_DECOUPLED;
+}
+
+int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles,
+                     int64_t n_triangles, char* message, size_t message_capacity) {
+  return guarded(message, message_capacity, [&] {
+    check_buffers(positions, n_vertices, triangles, n_triangles);
+    developable::validate_mesh(copy_positions(positions, n_vertices),
+                               copy_triangles(triangles, n_triangles));
+  });
+}
+
+int32_t dev_run(const double* positions, int64_t n_vertices, const int32_t* triangles,
+                int64_t n_triangles, const uint8_t* pinned, const dev_params* params,
+                dev_progress_fn progress, void* user, dev_result** result, char* message,
+                size_t message_capacity) {
+  if (result != nullptr) *result = nullptr;
+  return guarded(message, message_capacity, [&] {
+    require(result != nullptr, "result is a null pointer");
+    check_buffers(positions, n_vertices, triangles, n_triangles);
+    dev_params defaults;
+    dev_default_params(&defaults);
+    const developable::PipelineOptions options = to_options(params != nullptr ? *params : defaults);
+    std::vector<bool> pin_mask;
+    if (pinned != nullptr) pin_mask.assign(pinned, pinned + n_vertices);
+    std::pair<dev_progress_fn, void*> callback{progress, user};
+    const developable::Progress report{progress != nullptr ? call_progress : nullptr, &callback};
+    auto owned = std::make_unique<dev_result>();
+    owned->pipeline = developable::run_pipeline(copy_positions(positions, n_vertices),
+                                                copy_triangles(triangles, n_triangles), pin_mask,
+                                                options, report);
+    *result = owned.release();
+  });
+}
+
+void dev_result_free(dev_result* result) { delete result; }
+
+int32_t dev_result_stats(const dev_result* result, dev_stats* stats) {
+  if (result == nullptr || stats == nullptr) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& s = result->pipeline.stats;
+  *stats = dev_stats{};
+  stats->vertices = s.vertices;
+  stats->faces = s.faces;
+  stats->interior_vertices = s.interior_vertices;
+  stats->patches = s.patches;
+  stats->curves = static_cast<int64_t>(result->pipeline.curves.size());
+  stats->iterations = s.iterations;
+  stats->stop_reason = static_cast<int32_t>(s.stop_reason);
+  stats->average_edge_length = s.average_edge_length;
+  stats->mean_defect_before = s.mean_defect_before;
+  stats->mean_defect_after = s.mean_defect_after;
+  stats->max_defect_before = s.max_defect_before;
+  stats->max_defect_after = s.max_defect_after;
+  stats->change_percent = s.change_percent;
+  stats->max_vertex_move = s.max_vertex_move;
+  stats->time_decompose_ms = s.time_decompose_ms;
+  stats->time_iterate_ms = s.time_iterate_ms;
+  stats->time_total_ms = s.time_total_ms;
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_result_positions(const dev_result* result, double* out, int64_t capacity) {
+  return copy_out(result, out, capacity, [](const auto& r) -> const auto& { return r.positions; });
+}
+
+int32_t dev_result_defect_before(const dev_result* result, double* out, int64_t capacity) {
+  return copy_out(result, out, capacity, [](const auto& r) -> const auto& { return r.defect_before; });
+}
+
+int32_t dev_result_defect_after(const dev_result* result, double* out, int64_t capacity) {
+  return copy_out(result, out, capacity, [](const auto& r) -> const auto& { return r.defect_after; });
+}
+
+int32_t dev_result_interior(const dev_result* result, uint8_t* out, int64_t capacity) {
+  if (result == nullptr || out == nullptr) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& interior = result->pipeline.interior;
+  if (capacity < static_cast<int64_t>(interior.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  for (size_t v = 0; v < interior.size(); ++v) out[v] = interior[v] ? 1 : 0;
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_result_target_normals(const dev_result* result, double* out, int64_t capacity) {
+  return copy_out(result, out, capacity, [](const auto& r) -> const auto& { return r.target_normals; });
+}
+
+int32_t dev_result_patch_ids(const dev_result* result, int32_t* out, int64_t capacity) {
+  return copy_out(result, out, capacity, [](const auto& r) -> const auto& { return r.patch_ids; });
+}
+
+int64_t dev_result_curve_count(const dev_result* result) {
+  return result == nullptr ? 0 : static_cast<int64_t>(result->pipeline.curves.size());
+}
+
+int32_t dev_result_curve_info(const dev_result* result, int64_t index, int64_t* n_points,
+                              int32_t* patch, int32_t* closed) {
+  if (result == nullptr || index < 0 || index >= dev_result_curve_count(result))
+    return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& curve = result->pipeline.curves[static_cast<size_t>(index)];
+  if (n_points != nullptr) *n_points = static_cast<int64_t>(curve.curve.points.size());
+  if (patch != nullptr) *patch = curve.patch;
+  if (closed != nullptr) *closed = curve.curve.closed ? 1 : 0;
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_result_curve_points(const dev_result* result, int64_t index, double* out,
+                                int64_t capacity) {
+  if (result == nullptr || out == nullptr || index < 0 || index >= dev_result_curve_count(result))
+    return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& points = result->pipeline.curves[static_cast<size_t>(index)].curve.points;
+  if (capacity < 3 * static_cast<int64_t>(points.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  for (size_t i = 0; i < points.size(); ++i)
+    for (int axis = 0; axis < 3; ++axis) out[3 * i + axis] = points[i][axis];
+  return DEV_STATUS_OK;
+}
+
+}  // extern "C"

@@ -1,0 +1,266 @@
+#include "deformation.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+
+namespace developable {
+namespace {
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+// The 11 x 9 matrix A_t of Eq. 3 (unknowns: v_i, v_j, v_k, xyz each).
+Eigen::Matrix<double, 11, 9> coupled_rows(const Eigen::Vector3d& target, double omega) {
+  Eigen::Matrix<double, 11, 9> a = Eigen::Matrix<double, 11, 9>::Zero();
+  const Eigen::RowVector3d n = omega * target.transpose();
+  a.block<1, 3>(0, 0) = -n;
+  a.block<1, 3>(0, 3) = n;
+  a.block<1, 3>(1, 0) = -n;
+  a.block<1, 3>(1, 6) = n;
+  const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
+  a.block<3, 3>(2, 0) = -identity;
+  a.block<3, 3>(2, 3) = identity;
+  a.block<3, 3>(5, 0) = -identity;
+  a.block<3, 3>(5, 6) = identity;
+  for (int c = 0; c < 3; ++c) a.block<3, 3>(8, 3 * c) = identity / 3.0;
+  return a;
+}
+
+// The 3 x 3 scalar rows of the decoupled system: two edges and the centroid.
+Eigen::Matrix3d decoupled_rows() {
+  Eigen::Matrix3d b;
+  b << -1.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0;
+  return b;
+}
+
+Eigen::Vector3d vertex(const Positions& p, int v) { return p.row(v).transpose(); }
+
+// Rotation by `fraction` of the angle that takes unit `from` onto unit `to`.
+Eigen::Matrix3d partial_rotation(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                 double fraction) {
+  const Eigen::Vector3d axis = from.cross(to);
+  const double sine = axis.norm();
+  if (sine < 1e-15) return Eigen::Matrix3d::Identity();
+  const double angle = std::atan2(sine, from.dot(to));
+  return Eigen::AngleAxisd(fraction * angle, axis / sine).toRotationMatrix();
+}
+
+void check_finite(const Eigen::VectorXd& x) {
+  if (!x.allFinite())
+    throw EngineError(Status::numerical_failure,
+                      "the linear solve produced non-finite positions");
+}
+
+}  // namespace
+
+Eigen::VectorXd mls_row_weights(const Positions& positions, const Triangles& triangles,
+                                const std::vector<bool>& pinned, double average_edge_length) {
+  const Eigen::Index n = positions.rows();
+  Eigen::VectorXd weights = Eigen::VectorXd::Ones(triangles.rows());
+  bool any_pin = false;
+  for (Eigen::Index v = 0; v < n; ++v) any_pin |= pinned[static_cast<size_t>(v)];
+  if (!any_pin) return weights;
+
+  // Multi-source Dijkstra along the edges: the distance to the nearest pin
+  // measured on the surface, so a pin across a gap does not stiffen a part
+  // it is not connected to.
+  std::vector<std::vector<std::pair<int, double>>> neighbours(static_cast<size_t>(n));
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = triangles(f, c), b = triangles(f, (c + 1) % 3);
+      const double length = (positions.row(a) - positions.row(b)).norm();
+      neighbours[static_cast<size_t>(a)].emplace_back(b, length);
+      neighbours[static_cast<size_t>(b)].emplace_back(a, length);
+    }
+  }
+  std::vector<double> distance(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    if (pinned[static_cast<size_t>(v)]) {
+      distance[static_cast<size_t>(v)] = 0.0;
+      queue.emplace(0.0, static_cast<int>(v));
+    }
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[static_cast<size_t>(v)]) continue;
+    for (const auto& [w, length] : neighbours[static_cast<size_t>(v)]) {
+      if (d + length < distance[static_cast<size_t>(w)]) {
+        distance[static_cast<size_t>(w)] = d + length;
+        queue.emplace(d + length, w);
+      }
+    }
+  }
+
+  constexpr double eps = 1e-3;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 3; ++c) nearest = std::min(nearest, distance[static_cast<size_t>(triangles(f, c))]);
+    if (!std::isfinite(nearest)) continue;  // a component without pins
+    const double d = nearest / average_edge_length;
+    weights[f] = 1.0 + 1.0 / (d * d + eps * eps);
+  }
+  return weights;
+}
+
+NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles,
+                                                 const std::vector<bool>& pinned,
+                                                 Eigen::VectorXd row_weights, double omega,
+                                                 Formulation formulation, const Normals& targets)
+    : triangles_(triangles),
+      row_weights_(std::move(row_weights)),
+      omega_(omega),
+      formulation_(formulation),
+      targets_(targets),
+      free_index_(pinned.size(), -1) {
+  if (!(omega > 0.0) || !std::isfinite(omega))
+    throw EngineError(Status::invalid_argument, "omega must be a positive number");
+  if (row_weights_.size() != triangles.rows() || targets.rows() != triangles.rows())
+    throw EngineError(Status::internal_error, "deformation: one weight and target per triangle");
+
+  // Unknowns are the free vertices that some triangle uses; unused vertices
+  // simply stay where they are.
+  std::vector<bool> used(pinned.size(), false);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+    for (int c = 0; c < 3; ++c) used[static_cast<size_t>(triangles(f, c))] = true;
+  for (size_t v = 0; v < pinned.size(); ++v)
+    if (used[v] && !pinned[v]) free_index_[v] = static_cast<int>(free_count_++);
+  if (free_count_ == 0)
+    throw EngineError(Status::no_free_vertex,
+                      "every vertex is pinned: there is nothing the deformation may move");
+
+  solver_ = std::make_unique<Solver>();
+  if (formulation_ == Formulation::coupled) {
+    factor_coupled();
+    return;
+  }
+  const Eigen::Index n = static_cast<Eigen::Index>(pinned.size());
+  const Eigen::Matrix3d b = decoupled_rows();
+  const Eigen::Matrix3d local = b.transpose() * b;
+  Triplets free_free, free_pinned;
+  free_free.reserve(static_cast<size_t>(triangles.rows()) * 9);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    for (int r = 0; r < 3; ++r) {
+      const int row = free_index_[static_cast<size_t>(triangles(f, r))];
+      if (row < 0) continue;
+      for (int c = 0; c < 3; ++c) {
+        const int v = triangles(f, c);
+        const int col = free_index_[static_cast<size_t>(v)];
+        const double value = row_weights_[f] * local(r, c);
+        if (col >= 0) free_free.emplace_back(row, col, value);
+        else free_pinned.emplace_back(row, v, value);
+      }
+    }
+  }
+  free_free_.resize(free_count_, free_count_);
+  free_free_.setFromTriplets(free_free.begin(), free_free.end());
+  free_pinned_.resize(free_count_, n);
+  free_pinned_.setFromTriplets(free_pinned.begin(), free_pinned.end());
+  solver_->compute(free_free_);
+  if (solver_->info() != Eigen::Success)
+    throw EngineError(Status::numerical_failure, "factoring the deformation matrix failed");
+}
+
+void NormalGuidedDeformation::factor_coupled() {
+  const Eigen::Index n = static_cast<Eigen::Index>(free_index_.size());
+  Triplets free_free, free_pinned;
+  free_free.reserve(static_cast<size_t>(triangles_.rows()) * 81);
+  for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+    const Eigen::Matrix<double, 11, 9> a = coupled_rows(targets_.row(f).transpose(), omega_);
+    const Eigen::Matrix<double, 9, 9> local = row_weights_[f] * (a.transpose() * a);
+    for (int r = 0; r < 9; ++r) {
+      const int row_vertex = free_index_[static_cast<size_t>(triangles_(f, r / 3))];
+      if (row_vertex < 0) continue;
+      for (int c = 0; c < 9; ++c) {
+        const int v = triangles_(f, c / 3);
+        const int col_vertex = free_index_[static_cast<size_t>(v)];
+        if (col_vertex >= 0) free_free.emplace_back(3 * row_vertex + r % 3, 3 * col_vertex + c % 3, local(r, c));
+        else free_pinned.emplace_back(3 * row_vertex + r % 3, 3 * v + c % 3, local(r, c));
+      }
+    }
+  }
+  const bool first = free_free_.nonZeros() == 0;
+  free_free_.resize(3 * free_count_, 3 * free_count_);
+  free_free_.setFromTriplets(free_free.begin(), free_free.end());
+  free_pinned_.resize(3 * free_count_, 3 * n);
+  free_pinned_.setFromTriplets(free_pinned.begin(), free_pinned.end());
+  // The pattern depends only on the mesh and the pins: analyse it once.
+  if (first) solver_->analyzePattern(free_free_);
+  solver_->factorize(free_free_);
+  if (solver_->info() != Eigen::Success)
+    throw EngineError(Status::numerical_failure, "factoring the deformation matrix failed");
+}
+
+void NormalGuidedDeformation::set_targets(const Normals& targets) {
+  if (targets.rows() != triangles_.rows())
+    throw EngineError(Status::internal_error, "deformation: one target per triangle");
+  targets_ = targets;
+  if (formulation_ == Formulation::coupled) factor_coupled();
+}
+
+Positions NormalGuidedDeformation::step(const Positions& current) const {
+  return formulation_ == Formulation::coupled ? step_coupled(current) : step_decoupled(current);
+}
+
+Positions NormalGuidedDeformation::step_coupled(const Positions& current) const {
+  // Right-hand side W A^T c; the normal rows have c = 0 and add nothing.
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(3 * free_count_);
+  for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+    const int i = triangles_(f, 0), j = triangles_(f, 1), k = triangles_(f, 2);
+    const Eigen::Vector3d pi = vertex(current, i), pj = vertex(current, j), pk = vertex(current, k);
+    const Eigen::Vector3d eij = pj - pi, eik = pk - pi, third = (pi + pj + pk) / 9.0;
+    const Eigen::Vector3d g[3] = {-eij - eik + third, eij + third, eik + third};
+    for (int c = 0; c < 3; ++c) {
+      const int row = free_index_[static_cast<size_t>(triangles_(f, c))];
+      if (row >= 0) rhs.segment<3>(3 * row) += row_weights_[f] * g[c];
+    }
+  }
+  const Eigen::Map<const Eigen::VectorXd> all(current.data(), current.size());
+  rhs -= free_pinned_ * all;  // row-major positions: index 3 v + axis
+  const Eigen::VectorXd x = solver_->solve(rhs);
+  check_finite(x);
+  Positions next = current;
+  for (size_t v = 0; v < free_index_.size(); ++v) {
+    const int row = free_index_[v];
+    if (row >= 0) next.row(static_cast<Eigen::Index>(v)) = x.segment<3>(3 * row).transpose();
+  }
+  return next;
+}
+
+Positions NormalGuidedDeformation::step_decoupled(const Positions& current) const {
+  const double fraction = omega_ * omega_ / (1.0 + omega_ * omega_);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> rhs =
+      Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(free_count_, 3);
+  for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+    const int i = triangles_(f, 0), j = triangles_(f, 1), k = triangles_(f, 2);
+    const Eigen::Vector3d pi = vertex(current, i), pj = vertex(current, j), pk = vertex(current, k);
+    const Eigen::Vector3d normal = (pj - pi).cross(pk - pi).normalized();
+    const Eigen::Matrix3d rotation =
+        partial_rotation(normal, targets_.row(f).transpose(), fraction);
+    const Eigen::Vector3d eij = rotation * (pj - pi), eik = rotation * (pk - pi);
+    const Eigen::Vector3d third = (pi + pj + pk) / 9.0;
+    const Eigen::Vector3d g[3] = {-eij - eik + third, eij + third, eik + third};
+    for (int c = 0; c < 3; ++c) {
+      const int row = free_index_[static_cast<size_t>(triangles_(f, c))];
+      if (row >= 0) rhs.row(row) += row_weights_[f] * g[c].transpose();
+    }
+  }
+  rhs -= free_pinned_ * current;
+  Positions next = current;
+  for (int axis = 0; axis < 3; ++axis) {
+    const Eigen::VectorXd x = solver_->solve(rhs.col(axis));
+    check_finite(x);
+    for (size_t v = 0; v < free_index_.size(); ++v) {
+      const int row = free_index_[v];
+      if (row >= 0) next(static_cast<Eigen::Index>(v), axis) = x[row];
+    }
+  }
+  return next;
+}
+
+}  // namespace developable

@@ -1,0 +1,91 @@
+// Stage 7 of the pipeline: normal-guided deformation (paper, Sec. IV, Eqs. 2-7).
+//
+// Each triangle t = (i, j, k) with target normal n contributes 11 rows:
+//   2 normal rows   omega * n . (v_j - v_i) = 0,  omega * n . (v_k - v_i) = 0
+//   6 edge rows     v_j - v_i = e_ij,  v_k - v_i = e_ik
+//   3 centroid rows (v_i + v_j + v_k) / 3 = centroid
+// where e and the centroid are taken from the current positions (each
+// iteration updates c, Eq. 3). All 11 rows of t are scaled by the square root
+// of its moving-least-squares weight (Eq. 5; see mls_row_weights). Pinned
+// vertices are not unknowns: they keep their input coordinates bit for bit.
+//
+// Two formulations of the same least-squares problem:
+//   coupled    the paper's: one 3n x 3n normal matrix W A^T A W (Eq. 7) whose
+//              values depend on the targets; the symbolic analysis is done
+//              once and a change of targets only refactors numerically;
+//   decoupled  the normal rows moved into the right-hand side: each
+//              triangle's current edges are rotated toward its target normal
+//              by the angle fraction omega^2 / (1 + omega^2) (the optimum of
+//              the 2 normal rows + 6 edge rows of that triangle alone), and
+//              the remaining 9 rows, the same for x, y and z, form one n x n
+//              matrix that never changes: factored once, three solves a step.
+#pragma once
+
+#include "types.h"
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <memory>
+#include <vector>
+
+namespace developable {
+
+enum class Formulation { coupled, decoupled };
+
+// Eq. 5's weight per triangle, applied to the triangle's rows:
+//   w(v) = 1 / (d(v)^2 + eps^2),  d = edge-path distance from v to the nearest
+//   pinned vertex in units of AE (so the weights do not depend on the mesh's
+//   scale), eps = 0.001 as in the paper; row weight s_t = 1 + max over t's
+//   vertices of w. Far from pins s_t -> 1; triangles at the pins are stiff,
+//   which fades the deformation out smoothly toward the constraints.
+// Without pins every weight is 1.
+//   positions, triangles: a validated mesh; pinned: one flag per vertex;
+//   average_edge_length: AE, > 0.
+Eigen::VectorXd mls_row_weights(const Positions& positions, const Triangles& triangles,
+                                const std::vector<bool>& pinned, double average_edge_length);
+
+class NormalGuidedDeformation {
+ public:
+  // Builds and factors the normal matrix (the paper's t_D).
+  //   triangles: the validated mesh; pinned: one flag per vertex (at least one
+  //   vertex must be free, else EngineError(no_free_vertex));
+  //   row_weights: one positive weight per triangle (mls_row_weights, or ones);
+  //   omega > 0: weight of the normal rows; targets: unit target normal per
+  //   triangle (only the coupled formulation needs them here).
+  // Throws EngineError(numerical_failure) if the factorisation fails.
+  NormalGuidedDeformation(const Triangles& triangles, const std::vector<bool>& pinned,
+                          Eigen::VectorXd row_weights, double omega, Formulation formulation,
+                          const Normals& targets);
+
+  // New target normals, e.g. after the ideal curve was refit. The coupled
+  // formulation refactors numerically (same sparsity pattern); the decoupled
+  // one only stores them.
+  void set_targets(const Normals& targets);
+
+  // One iteration: the positions minimising Eq. 4 with c from `current`.
+  // Pinned vertices are copied from `current`. Throws
+  // EngineError(numerical_failure) when the solve fails or gives non-finite values.
+  Positions step(const Positions& current) const;
+
+ private:
+  void factor_coupled();
+  Positions step_coupled(const Positions& current) const;
+  Positions step_decoupled(const Positions& current) const;
+
+  using Solver = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>;
+
+  Triangles triangles_;
+  Eigen::VectorXd row_weights_;
+  double omega_;
+  Formulation formulation_;
+  Normals targets_;
+  std::vector<int> free_index_;  // vertex -> unknown number, -1 when pinned
+  Eigen::Index free_count_ = 0;
+  Eigen::SparseMatrix<double> free_free_;    // normal matrix on the free unknowns
+  Eigen::SparseMatrix<double> free_pinned_;  // its coupling to the pinned coordinates
+  std::unique_ptr<Solver> solver_;
+};
+
+}  // namespace developable

@@ -1,0 +1,184 @@
+/* C ABI of the developable engine.
+ *
+ * Plain C, so that Python's ctypes (the Blender add-on) and any other language
+ * can call it. Rules every function keeps:
+ *   - no C++ exception crosses this boundary, nothing aborts the process;
+ *   - nothing is written outside the buffers the caller passes, whose sizes
+ *     are checked against the counts the caller gives;
+ *   - no global state: calls on different data may run on different threads.
+ * Errors come back as a DEV_STATUS_* code plus a message naming the first bad
+ * element, copied into the caller's `message` buffer (always NUL-terminated). */
+#ifndef DEVELOPABLE_H
+#define DEVELOPABLE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#define DEV_API __declspec(dllexport)
+#else
+#define DEV_API __attribute__((visibility("default")))
+#endif
+
+/* Bumped whenever a struct layout or a signature below changes. */
+#define DEV_ABI_VERSION 1
+
+/* Status codes (values are stable). */
+enum {
+  DEV_STATUS_OK = 0,
+  DEV_STATUS_EMPTY_INPUT = 1,
+  DEV_STATUS_INDEX_OUT_OF_RANGE = 2,
+  DEV_STATUS_NON_FINITE_COORDINATE = 3,
+  DEV_STATUS_DEGENERATE_TRIANGLE = 4,
+  DEV_STATUS_DUPLICATE_TRIANGLE = 5,
+  DEV_STATUS_NON_MANIFOLD = 6,
+  DEV_STATUS_INVALID_ARGUMENT = 7,
+  DEV_STATUS_NO_FREE_VERTEX = 8,
+  DEV_STATUS_CANCELLED = 9,
+  DEV_STATUS_NUMERICAL_FAILURE = 10,
+  DEV_STATUS_OUT_OF_MEMORY = 11,
+  DEV_STATUS_INTERNAL_ERROR = 12,
+  DEV_STATUS_NO_INTERIOR_VERTEX = 13
+};
+
+/* Deformation modes. */
+enum {
+  DEV_MODE_REFIT = 0, /* refit the ideal curve and targets from the deformed mesh each iteration (default) */
+  DEV_MODE_PAPER = 1  /* the paper: one set of targets, the 11-row system factored once */
+};
+
+/* How the normal rows enter the linear system (dev_params.solver). */
+enum {
+  DEV_SOLVER_DECOUPLED = 0, /* normal rows moved to the right-hand side: one n x n matrix shared by
+                               x, y and z, factored once even when the targets change (default) */
+  DEV_SOLVER_COUPLED = 1    /* the paper's 11 rows per triangle in one 3n x 3n matrix, refactored
+                               (numerically only) whenever the targets change */
+};
+
+/* Why the iteration stopped (dev_stats.stop_reason). */
+enum {
+  DEV_STOP_ALREADY_DEVELOPABLE = 0, /* mean |defect| already below developable_threshold: mesh untouched */
+  DEV_STOP_CONVERGED = 1,           /* mean |defect| changed by less than stop_relative_change */
+  DEV_STOP_ITERATION_LIMIT = 2      /* max_iterations reached */
+};
+
+/* Seam treatment for segmented meshes (issue: segmentation). */
+enum {
+  DEV_SEAMS_FREE = 0,   /* one global solve, seams move freely (default) */
+  DEV_SEAMS_PINNED = 1  /* the paper: patch borders pinned, patches deformed one by one */
+};
+
+typedef struct dev_params {
+  double omega;               /* weight of the normal rows (Eq. 3), > 0. Default 5. */
+  double tolerance;           /* E_allow: largest vertex move, in multiples of the average edge
+                                 length AE; <= 0 means no limit. Default 10. */
+  int32_t max_iterations;     /* >= 1. Default 100. */
+  int32_t mode;               /* DEV_MODE_*. Default DEV_MODE_REFIT. */
+  int32_t pin_boundary;       /* nonzero: pin every boundary vertex. Default 0. */
+  int32_t use_mls_weights;    /* nonzero: Eq. 5 moving-least-squares row weights around pins. Default 1. */
+  double stop_relative_change;  /* stop when mean |defect| changes by less than this fraction
+                                   between iterations. Default 1e-5 (0.001 %). */
+  double developable_threshold; /* mean |defect| (rad) below which the mesh counts as developable
+                                   and is returned unchanged. Default 1e-10. */
+  int32_t segmentation;       /* -1 automatic (default), 0 off (one patch), 1 on. */
+  int32_t target_patches;     /* segmentation: wanted number of patches, 0 = automatic. */
+  double segment_max_error;   /* segmentation: largest cone-fitting error of a patch (rad); 0 = default. */
+  int32_t seams;              /* DEV_SEAMS_*. Default DEV_SEAMS_FREE. */
+  int32_t grid_resolution;    /* effect-field grid cells per side; 0 = default (128). */
+  int32_t solver;             /* DEV_SOLVER_*. Default DEV_SOLVER_DECOUPLED; DEV_MODE_PAPER always
+                                 uses the coupled system, as the paper does. */
+} dev_params;
+
+typedef struct dev_stats {
+  int64_t vertices;
+  int64_t faces;
+  int64_t interior_vertices;
+  int64_t patches;
+  int64_t curves;
+  int32_t iterations;
+  int32_t stop_reason;          /* DEV_STOP_* */
+  double average_edge_length;   /* AE, caller's units */
+  double mean_defect_before;    /* E_before: mean |angle defect| over interior vertices, rad */
+  double mean_defect_after;     /* E_after */
+  double max_defect_before;
+  double max_defect_after;
+  double change_percent;        /* dE = 100 (E_after - E_before) / E_before; 0 when E_before is 0 */
+  double max_vertex_move;       /* largest distance a vertex moved, caller's units */
+  double time_decompose_ms;     /* t_D: building and factoring the normal matrix */
+  double time_iterate_ms;       /* t_I: the iterations */
+  double time_total_ms;         /* t_T: the whole call, checks and fitting included */
+} dev_stats;
+
+/* Opaque result of one run; free with dev_result_free. */
+typedef struct dev_result dev_result;
+
+/* Progress callback: fraction in [0, 1] and a stage name. Return 0 to cancel,
+ * nonzero to go on. Called on the thread that called dev_run. */
+typedef int (*dev_progress_fn)(double fraction, const char* stage, void* user);
+
+/* DEV_ABI_VERSION of the loaded library: compare before any other call. */
+DEV_API int32_t dev_abi_version(void);
+
+/* Engine version string, e.g. "0.1.0". Static storage, never freed. */
+DEV_API const char* dev_version_string(void);
+
+/* Fills *params with the defaults. */
+DEV_API void dev_default_params(dev_params* params);
+
+/* Runs the whole pipeline.
+ *   positions: n_vertices * 3 float64 (x, y, z per vertex).
+ *   triangles: n_triangles * 3 int32 zero-based vertex indices.
+ *   pinned:    NULL, or n_vertices bytes; nonzero = vertex must not move.
+ *   params:    NULL for the defaults.
+ *   progress:  NULL, or a callback (see above).
+ *   result:    receives a new result on DEV_STATUS_OK, NULL otherwise.
+ *   message, message_capacity: receives the error (or "ok"), truncated to fit.
+ * Returns a DEV_STATUS_* code. The input buffers are only read. */
+DEV_API int32_t dev_run(const double* positions, int64_t n_vertices,
+                        const int32_t* triangles, int64_t n_triangles,
+                        const uint8_t* pinned, const dev_params* params,
+                        dev_progress_fn progress, void* user,
+                        dev_result** result, char* message, size_t message_capacity);
+
+/* Only the input check of dev_run (stage 1): same codes and messages. */
+DEV_API int32_t dev_validate(const double* positions, int64_t n_vertices,
+                             const int32_t* triangles, int64_t n_triangles,
+                             char* message, size_t message_capacity);
+
+DEV_API void dev_result_free(dev_result* result);
+
+/* Accessors. Each copies into a caller buffer whose length (in elements of
+ * the pointed type) is `capacity`; returns DEV_STATUS_OK, or
+ * DEV_STATUS_INVALID_ARGUMENT when the buffer is NULL or too small. */
+DEV_API int32_t dev_result_stats(const dev_result* result, dev_stats* stats);
+/* n_vertices * 3 float64: the deformed positions. */
+DEV_API int32_t dev_result_positions(const dev_result* result, double* out, int64_t capacity);
+/* n_vertices float64: angle defect (rad) per vertex before / after; 0 on boundary vertices. */
+DEV_API int32_t dev_result_defect_before(const dev_result* result, double* out, int64_t capacity);
+DEV_API int32_t dev_result_defect_after(const dev_result* result, double* out, int64_t capacity);
+/* n_vertices bytes: 1 for interior vertices (where the defect is defined). */
+DEV_API int32_t dev_result_interior(const dev_result* result, uint8_t* out, int64_t capacity);
+/* n_triangles * 3 float64: the last target normal of each face. */
+DEV_API int32_t dev_result_target_normals(const dev_result* result, double* out, int64_t capacity);
+/* n_triangles int32: patch id of each face, 0 .. patches-1. */
+DEV_API int32_t dev_result_patch_ids(const dev_result* result, int32_t* out, int64_t capacity);
+
+/* Ideal curves (of the last fit), as polylines on the unit sphere. */
+DEV_API int64_t dev_result_curve_count(const dev_result* result);
+/* Point count, patch id and closed flag of curve `index`; returns DEV_STATUS_INVALID_ARGUMENT
+ * for an index out of range. Any output pointer may be NULL. */
+DEV_API int32_t dev_result_curve_info(const dev_result* result, int64_t index,
+                                      int64_t* n_points, int32_t* patch, int32_t* closed);
+/* n_points * 3 float64 of curve `index`. */
+DEV_API int32_t dev_result_curve_points(const dev_result* result, int64_t index,
+                                        double* out, int64_t capacity);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DEVELOPABLE_H */

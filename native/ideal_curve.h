@@ -1,0 +1,53 @@
+// Stage 6 of the pipeline: the ideal curve of a patch's Gauss image, and the
+// target normals on it (paper, Sec. III).
+//
+// fit_ideal_curves() chains the stages before it: the Gauss image chart
+// (gauss_chart.h), the radial effect field (effect_field.h) and its skeleton
+// (skeleton.h). It fits a least-squares cubic B-spline to each ordered skeleton
+// branch in the chart and lifts it back to the unit sphere as a dense polyline.
+#pragma once
+
+#include "types.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace developable {
+
+// One ideal curve on the unit sphere, as a dense polyline of unit vectors.
+// A single point stands for a planar patch (its Gauss image is about a point).
+struct SphereCurve {
+  std::vector<Eigen::Vector3d> points;
+  bool closed = false;  // the last point connects back to the first
+};
+
+struct IdealCurveOptions {
+  // Effect-field grid: cells per side of the square chart window.
+  int grid_resolution = 128;
+  // Effect-region threshold of Eq. 1, in chart units (the equal-area chart
+  // spans a disc of radius 2). 0 picks it from the point spacing.
+  double effect_radius = 0.0;
+  // k of the density term r(p) = k * #(points in cell) / #(points).
+  double density_scale = 1.0;
+  // Polyline samples per fitted B-spline; more gives finer targets.
+  int samples_per_curve = 512;
+};
+
+// Fits the ideal curve(s) of one patch.
+//   normals: unit face normals of the patch (its Gauss image), one per row.
+//   weights: one non-negative weight per normal (face areas), same length.
+// Returns at least one curve: several for a branched or split Gauss image, a
+// single one-point curve (the weighted mean normal) for a planar patch.
+// Throws EngineError(invalid_argument) on size mismatch or an empty patch.
+std::vector<SphereCurve> fit_ideal_curves(const Normals& normals,
+                                          const Eigen::VectorXd& weights,
+                                          const IdealCurveOptions& options);
+
+// The target normal of each face: its normal's nearest point on any of the
+// curves, measured on the sphere (so a unit vector). Segments between
+// consecutive polyline points are great-circle arcs.
+//   normals: unit vectors, one per row. curves: non-empty, as returned above.
+Normals nearest_on_curves(const Normals& normals, const std::vector<SphereCurve>& curves);
+
+}  // namespace developable

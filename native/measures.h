@@ -1,0 +1,41 @@
+// Stage 2 of the pipeline: the measures the paper's tables report, and the
+// per-face quantities the later stages use.
+#pragma once
+
+#include "types.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace developable {
+
+// Unit normal of each triangle (right-handed in the triangle's vertex order).
+// A zero-area triangle gets the zero vector.
+Normals face_normals(const Positions& positions, const Triangles& triangles);
+
+// Area of each triangle, in the caller's units squared.
+Eigen::VectorXd face_areas(const Positions& positions, const Triangles& triangles);
+
+// AE: the mean length over the mesh's undirected edges, caller's units.
+double average_edge_length(const Positions& positions, const Triangles& triangles);
+
+// Discrete Gaussian curvature: the angle defect 2*pi - (sum of the corner
+// angles at the vertex), in radians, for each interior vertex; 0 for boundary
+// vertices and for vertices no triangle uses (`interior` says which is which).
+Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles,
+                              const std::vector<bool>& interior);
+
+struct DefectStats {
+  double mean_abs = 0.0;  // E^mean of the paper: mean |defect| over interior vertices, rad
+  double max_abs = 0.0;
+  Eigen::Index interior_count = 0;
+};
+
+// Mean and max of |defect| over the vertices marked interior.
+DefectStats defect_stats(const Eigen::VectorXd& defects, const std::vector<bool>& interior);
+
+// Interior vertices: used by some triangle and not on the boundary.
+std::vector<bool> interior_vertices(const Positions& positions, const Triangles& triangles);
+
+}  // namespace developable

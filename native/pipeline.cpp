@@ -1,0 +1,260 @@
+#include "pipeline.h"
+
+#include "measures.h"
+#include "mesh_input.h"
+
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace developable {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double elapsed_ms(Clock::time_point since) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+}
+
+// Root-mean-square angle (rad) between the normals and their targets,
+// weighted by area: how far the Gauss image is from its ideal curves.
+double curve_fit_error(const Normals& normals, const Normals& targets, const Eigen::VectorXd& areas) {
+  double sum = 0.0;
+  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
+    const double angle = std::atan2(normals.row(f).cross(targets.row(f)).norm(),
+                                    normals.row(f).dot(targets.row(f)));
+    sum += areas[f] * angle * angle;
+  }
+  return std::sqrt(sum / std::max(areas.sum(), 1e-300));
+}
+
+// Vertices where faces of two or more patches meet.
+std::vector<bool> patch_border_vertices(const Triangles& triangles, const std::vector<int>& patch_ids,
+                                        Eigen::Index vertex_count) {
+  std::vector<int> first_patch(static_cast<size_t>(vertex_count), -1);
+  std::vector<bool> border(static_cast<size_t>(vertex_count), false);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const auto v = static_cast<size_t>(triangles(f, c));
+      const int patch = patch_ids[static_cast<size_t>(f)];
+      if (first_patch[v] < 0) first_patch[v] = patch;
+      else if (first_patch[v] != patch) border[v] = true;
+    }
+  }
+  return border;
+}
+
+// Moves every vertex farther than `limit` from its start back onto the ball
+// of that radius around it (E_allow).
+void clamp_to_tolerance(Positions& positions, const Positions& start, double limit) {
+  for (Eigen::Index v = 0; v < positions.rows(); ++v) {
+    const Eigen::RowVector3d move = positions.row(v) - start.row(v);
+    const double length = move.norm();
+    if (length > limit) positions.row(v) = start.row(v) + move * (limit / length);
+  }
+}
+
+}  // namespace
+
+void check_options(const PipelineOptions& o) {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw EngineError(Status::invalid_argument, what);
+  };
+  require(std::isfinite(o.omega) && o.omega > 0.0, "omega must be a positive number");
+  require(std::isfinite(o.tolerance), "tolerance must be a finite number (<= 0 for no limit)");
+  require(o.max_iterations >= 1 && o.max_iterations <= 100000,
+          "max_iterations must be between 1 and 100000");
+  require(std::isfinite(o.stop_relative_change) && o.stop_relative_change >= 0.0,
+          "stop_relative_change must be a non-negative number");
+  require(std::isfinite(o.developable_threshold) && o.developable_threshold >= 0.0,
+          "developable_threshold must be a non-negative number");
+  require(o.segmentation >= -1 && o.segmentation <= 1, "segmentation must be -1, 0 or 1");
+  require(std::isfinite(o.segmentation_options.max_fit_error) &&
+              o.segmentation_options.max_fit_error >= 0.0,
+          "segment_max_error must be a non-negative number");
+  require(o.segmentation_options.target_patches >= 0 &&
+              o.segmentation_options.target_patches <= 100000,
+          "target_patches must be between 0 and 100000");
+  require(o.curve_options.grid_resolution >= 16 && o.curve_options.grid_resolution <= 2048,
+          "grid_resolution must be between 16 and 2048");
+}
+
+Normals patch_target_normals(const Normals& normals, const Eigen::VectorXd& areas,
+                             const std::vector<int>& patch_ids, int patch_count,
+                             const IdealCurveOptions& options, std::vector<PatchCurve>& curves) {
+  std::vector<std::vector<Eigen::Index>> faces(static_cast<size_t>(patch_count));
+  for (Eigen::Index f = 0; f < normals.rows(); ++f)
+    faces[static_cast<size_t>(patch_ids[static_cast<size_t>(f)])].push_back(f);
+  Normals targets(normals.rows(), 3);
+  curves.clear();
+  for (int patch = 0; patch < patch_count; ++patch) {
+    const auto& members = faces[static_cast<size_t>(patch)];
+    if (members.empty()) continue;
+    Normals patch_normals(static_cast<Eigen::Index>(members.size()), 3);
+    Eigen::VectorXd patch_areas(static_cast<Eigen::Index>(members.size()));
+    for (size_t i = 0; i < members.size(); ++i) {
+      patch_normals.row(static_cast<Eigen::Index>(i)) = normals.row(members[i]);
+      patch_areas[static_cast<Eigen::Index>(i)] = areas[members[i]];
+    }
+    const std::vector<SphereCurve> fitted = fit_ideal_curves(patch_normals, patch_areas, options);
+    const Normals patch_targets = nearest_on_curves(patch_normals, fitted);
+    for (size_t i = 0; i < members.size(); ++i)
+      targets.row(members[i]) = patch_targets.row(static_cast<Eigen::Index>(i));
+    for (const auto& curve : fitted) curves.push_back({patch, curve});
+  }
+  return targets;
+}
+
+PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,
+                            const std::vector<bool>& pinned_input, const PipelineOptions& options,
+                            const Progress& progress) {
+  const auto start_time = Clock::now();
+  check_options(options);
+  progress.report(0.0, "checking input");
+  validate_mesh(positions, triangles);
+  const Eigen::Index n = positions.rows();
+  if (!pinned_input.empty() && static_cast<Eigen::Index>(pinned_input.size()) != n)
+    throw EngineError(Status::invalid_argument, "the pin mask needs one entry per vertex");
+
+  PipelineResult result;
+  PipelineStats& stats = result.stats;
+  stats.vertices = n;
+  stats.faces = triangles.rows();
+  result.interior = interior_vertices(positions, triangles);
+  result.defect_before = angle_defects(positions, triangles, result.interior);
+  const DefectStats before = defect_stats(result.defect_before, result.interior);
+  stats.interior_vertices = before.interior_count;
+  if (before.interior_count == 0)
+    throw EngineError(Status::no_interior_vertex,
+                      "the mesh has no interior vertex: every vertex is on the boundary, so "
+                      "there is no curvature to reduce");
+  stats.mean_defect_before = before.mean_abs;
+  stats.max_defect_before = before.max_abs;
+  stats.average_edge_length = average_edge_length(positions, triangles);
+  const double ae = stats.average_edge_length;
+
+  std::vector<bool> pinned = pinned_input.empty() ? std::vector<bool>(static_cast<size_t>(n), false)
+                                                  : pinned_input;
+  if (options.pin_boundary) {
+    const std::vector<bool> boundary = boundary_vertices(positions, triangles);
+    for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = pinned[v] || boundary[v];
+  }
+
+  // Patches.
+  progress.report(0.02, "segmentation");
+  const Normals normals_before = face_normals(positions, triangles);
+  const Eigen::VectorXd areas_before = face_areas(positions, triangles);
+  result.patch_ids.assign(static_cast<size_t>(triangles.rows()), 0);
+  int patch_count = 1;
+  if (options.segmentation != 0) {
+    std::vector<int> labels = segment_mesh(positions, triangles, options.segmentation_options, progress);
+    int count = 0;
+    for (int label : labels) count = std::max(count, label + 1);
+    bool use = options.segmentation == 1;
+    if (options.segmentation == -1 && count > 1) {
+      // Automatic: segment only when one ideal curve cannot carry the whole
+      // Gauss image, judged by how far the normals are from their targets.
+      std::vector<PatchCurve> one;
+      const Normals single = patch_target_normals(normals_before, areas_before, result.patch_ids, 1,
+                                                  options.curve_options, one);
+      std::vector<PatchCurve> many;
+      const Normals split = patch_target_normals(normals_before, areas_before, labels, count,
+                                                 options.curve_options, many);
+      use = curve_fit_error(normals_before, split, areas_before) <
+            0.5 * curve_fit_error(normals_before, single, areas_before);
+    }
+    if (use) {
+      result.patch_ids = std::move(labels);
+      patch_count = count;
+    }
+  }
+  stats.patches = patch_count;
+  if (options.seams == Seams::pinned && patch_count > 1) {
+    const std::vector<bool> border = patch_border_vertices(triangles, result.patch_ids, n);
+    for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = pinned[v] || border[v];
+  }
+
+  // Ideal curves and targets of the input.
+  progress.report(0.05, "ideal curve");
+  result.target_normals = patch_target_normals(normals_before, areas_before, result.patch_ids,
+                                               patch_count, options.curve_options, result.curves);
+  result.positions = positions;
+  result.defect_after = result.defect_before;
+  stats.mean_defect_after = before.mean_abs;
+  stats.max_defect_after = before.max_abs;
+  if (before.mean_abs <= options.developable_threshold) {
+    stats.stop_reason = StopReason::already_developable;
+    stats.time_total_ms = elapsed_ms(start_time);
+    progress.report(1.0, "done");
+    return result;
+  }
+
+  // The system (t_D).
+  progress.report(0.08, "factorization");
+  const auto decompose_start = Clock::now();
+  const Mode mode = options.mode;
+  const Formulation formulation = mode == Mode::paper ? Formulation::coupled : options.solver;
+  Eigen::VectorXd row_weights = options.use_mls_weights
+                                    ? mls_row_weights(positions, triangles, pinned, ae)
+                                    : Eigen::VectorXd::Ones(triangles.rows());
+  NormalGuidedDeformation deformation(triangles, pinned, std::move(row_weights), options.omega,
+                                      formulation, result.target_normals);
+  stats.time_decompose_ms = elapsed_ms(decompose_start);
+
+  // Iterations (t_I).
+  const auto iterate_start = Clock::now();
+  const double limit = options.tolerance > 0.0 ? options.tolerance * ae : 0.0;
+  Positions current = positions;
+  double previous_mean = before.mean_abs;
+  double best_mean = before.mean_abs;
+  stats.stop_reason = StopReason::iteration_limit;
+  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    progress.report(0.1 + 0.9 * (iteration - 1) / options.max_iterations, "deformation");
+    if (mode == Mode::refit && iteration > 1) {
+      std::vector<PatchCurve> curves;
+      Normals targets = patch_target_normals(face_normals(current, triangles),
+                                             face_areas(current, triangles), result.patch_ids,
+                                             patch_count, options.curve_options, curves);
+      const auto refactor_start = Clock::now();
+      deformation.set_targets(targets);
+      if (formulation == Formulation::coupled) stats.time_decompose_ms += elapsed_ms(refactor_start);
+      result.target_normals = std::move(targets);
+      result.curves = std::move(curves);
+    }
+    current = deformation.step(current);
+    if (limit > 0.0) clamp_to_tolerance(current, positions, limit);
+    stats.iterations = iteration;
+
+    const Eigen::VectorXd defects = angle_defects(current, triangles, result.interior);
+    const DefectStats now = defect_stats(defects, result.interior);
+    if (now.mean_abs < best_mean) {
+      best_mean = now.mean_abs;
+      result.positions = current;
+      result.defect_after = defects;
+      stats.mean_defect_after = now.mean_abs;
+      stats.max_defect_after = now.max_abs;
+    }
+    const double change = std::abs(now.mean_abs - previous_mean) / std::max(previous_mean, 1e-300);
+    previous_mean = now.mean_abs;
+    if (change < options.stop_relative_change || now.mean_abs <= options.developable_threshold) {
+      stats.stop_reason = StopReason::converged;
+      break;
+    }
+  }
+  stats.time_iterate_ms = elapsed_ms(iterate_start);
+
+  // Pinned vertices keep the caller's exact bits whatever the solver did.
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (pinned[static_cast<size_t>(v)]) result.positions.row(v) = positions.row(v);
+  for (Eigen::Index v = 0; v < n; ++v)
+    stats.max_vertex_move = std::max(stats.max_vertex_move, (result.positions.row(v) - positions.row(v)).norm());
+  stats.change_percent = 100.0 * (stats.mean_defect_after - stats.mean_defect_before) /
+                         stats.mean_defect_before;
+  stats.time_total_ms = elapsed_ms(start_time);
+  progress.report(1.0, "done");
+  return result;
+}
+
+}  // namespace developable

@@ -1,0 +1,98 @@
+// The whole pipeline: check, measure, segment, fit the ideal curves, deform.
+//
+//   validate_mesh (mesh_input.h)         stage 1
+//   measures (measures.h)                stage 2
+//   segment_mesh (segmentation.h)        curvature-based patches
+//   fit_ideal_curves (ideal_curve.h)     stages 3-6, per patch
+//   NormalGuidedDeformation              stage 7, iterated
+#pragma once
+
+#include "deformation.h"
+#include "ideal_curve.h"
+#include "segmentation.h"
+#include "types.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace developable {
+
+enum class Mode {
+  refit,  // refit the ideal curve and targets from the deformed mesh every iteration
+  paper,  // one set of targets from the input, the coupled system factored once
+};
+
+enum class Seams {
+  free,    // one global solve; seams between patches move like any vertex
+  pinned,  // the paper's: vertices on patch borders are pinned
+};
+
+enum class StopReason { already_developable = 0, converged = 1, iteration_limit = 2 };
+
+struct PipelineOptions {
+  double omega = 5.0;                   // weight of the normal rows, > 0
+  double tolerance = 10.0;              // E_allow in multiples of AE; <= 0: no limit
+  int max_iterations = 100;             // >= 1
+  Mode mode = Mode::refit;
+  Formulation solver = Formulation::decoupled;  // refit mode only; paper mode is coupled
+  bool pin_boundary = false;
+  bool use_mls_weights = true;
+  double stop_relative_change = 1e-5;   // 0.001 %, as in the paper
+  double developable_threshold = 1e-10; // mean |defect| (rad) that counts as developable
+  int segmentation = -1;                // -1 automatic, 0 off, 1 on
+  SegmentationOptions segmentation_options;
+  Seams seams = Seams::free;
+  IdealCurveOptions curve_options;
+};
+
+// Throws EngineError(invalid_argument) naming the first option out of range.
+void check_options(const PipelineOptions& options);
+
+struct PatchCurve {
+  int patch = 0;
+  SphereCurve curve;
+};
+
+struct PipelineStats {
+  Eigen::Index vertices = 0, faces = 0, interior_vertices = 0, patches = 0;
+  int iterations = 0;
+  StopReason stop_reason = StopReason::iteration_limit;
+  double average_edge_length = 0.0;                       // AE
+  double mean_defect_before = 0.0, mean_defect_after = 0.0;  // E^mean, rad
+  double max_defect_before = 0.0, max_defect_after = 0.0;
+  double change_percent = 0.0;                            // dE^mean, %
+  double max_vertex_move = 0.0;                           // caller's units
+  double time_decompose_ms = 0.0, time_iterate_ms = 0.0, time_total_ms = 0.0;  // t_D, t_I, t_T
+};
+
+struct PipelineResult {
+  Positions positions;             // deformed; pinned vertices bit-identical to the input
+  Eigen::VectorXd defect_before;   // per vertex, rad; 0 off the interior
+  Eigen::VectorXd defect_after;
+  std::vector<bool> interior;      // where the defect is defined
+  Normals target_normals;          // per face, of the last fit
+  std::vector<int> patch_ids;      // per face
+  std::vector<PatchCurve> curves;  // ideal curves of the last fit, on the unit sphere
+  PipelineStats stats;
+};
+
+// Runs the pipeline on a mesh.
+//   positions, triangles: the caller's mesh (checked by validate_mesh).
+//   pinned: empty, or one flag per vertex; pinned vertices never move.
+// The result keeps the iterate with the lowest mean |defect| (the input when
+// nothing improves it), every vertex within E_allow of its input position.
+// Throws EngineError: the input's status, no_interior_vertex, no_free_vertex,
+// invalid_argument, cancelled (via progress), numerical_failure.
+PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,
+                            const std::vector<bool>& pinned, const PipelineOptions& options,
+                            const Progress& progress);
+
+// Target normals of every face from its own patch's ideal curves.
+//   normals, areas: per face; patch_ids: per face in 0 .. patch_count-1.
+//   curves: receives each patch's fitted curves.
+Normals patch_target_normals(const Normals& normals, const Eigen::VectorXd& areas,
+                             const std::vector<int>& patch_ids, int patch_count,
+                             const IdealCurveOptions& options, std::vector<PatchCurve>& curves);
+
+}  // namespace developable

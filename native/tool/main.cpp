@@ -1,0 +1,270 @@
+// developable: the command-line tool. Reads a mesh, runs the engine through
+// its C ABI (the same path the Blender add-on takes), writes the result.
+#include "developable.h"
+#include "mesh_io.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+const char* const usage_text =
+    "usage: developable INPUT OUTPUT [options]\n"
+    "\n"
+    "Makes a triangle mesh nearly developable (Gaussian curvature close to zero) by\n"
+    "normal-guided deformation. INPUT and OUTPUT are .obj, .off, .ply or .stl files.\n"
+    "\n"
+    "options:\n"
+    "  --omega X            weight of the normal rows (default 5)\n"
+    "  --tolerance X        E_allow: largest vertex move in multiples of the average\n"
+    "                       edge length AE; 0 for no limit (default 10)\n"
+    "  --max-iterations N   iteration limit (default 100)\n"
+    "  --mode refit|paper   refit the ideal curve every iteration (default), or the\n"
+    "                       paper's one set of targets\n"
+    "  --solver decoupled|coupled\n"
+    "                       linear system of the refit mode (default decoupled)\n"
+    "  --pin-boundary       pin every boundary vertex\n"
+    "  --pin FILE           pin the vertices listed in FILE (zero-based, one per line)\n"
+    "  --no-mls             no moving-least-squares row weights around the pins\n"
+    "  --segmentation auto|on|off\n"
+    "                       split into quasi-developable patches (default auto)\n"
+    "  --patches N          wanted number of patches (default: automatic)\n"
+    "  --segment-error X    largest cone-fitting error of a patch, rad\n"
+    "  --seams free|pinned  seams move freely (default) or are pinned (the paper)\n"
+    "  --report FILE.json   write the run's figures, patch ids and curves as JSON\n"
+    "  --quiet              no progress on stderr\n"
+    "  --help               this text\n"
+    "\n"
+    "Exit status: 0 done, 1 bad usage or file error, 2 the engine refused the mesh.\n";
+
+[[noreturn]] void die(int code, const std::string& message) {
+  std::cerr << "developable: error: " << message << "\n";
+  std::exit(code);
+}
+
+double parse_number(const std::string& option, const char* text) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(value))
+    die(1, option + " needs a number, got '" + text + "'");
+  return value;
+}
+
+int parse_integer(const std::string& option, const char* text) {
+  const double value = parse_number(option, text);
+  if (value != std::floor(value) || std::abs(value) > 1e9)
+    die(1, option + " needs a whole number, got '" + text + "'");
+  return static_cast<int>(value);
+}
+
+std::vector<uint8_t> read_pins(const std::string& path, int64_t vertex_count) {
+  std::ifstream in(path);
+  if (!in) die(1, "cannot open pin file " + path);
+  std::vector<uint8_t> pinned(static_cast<size_t>(vertex_count), 0);
+  std::string line;
+  for (int line_number = 1; std::getline(in, line); ++line_number) {
+    std::istringstream words(line);
+    long long index = 0;
+    if (!(words >> index)) {
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      die(1, path + ":" + std::to_string(line_number) + ": not a vertex index: '" + line + "'");
+    }
+    if (index < 0 || index >= vertex_count)
+      die(1, path + ":" + std::to_string(line_number) + ": vertex " + std::to_string(index) +
+                 " does not exist (the mesh has " + std::to_string(vertex_count) + ")");
+    pinned[static_cast<size_t>(index)] = 1;
+  }
+  return pinned;
+}
+
+int print_progress(double fraction, const char* stage, void*) {
+  std::fprintf(stderr, "\r[%3d%%] %-24s", static_cast<int>(std::lround(100.0 * fraction)), stage);
+  std::fflush(stderr);
+  return 1;
+}
+
+const char* stop_reason_name(int32_t reason) {
+  switch (reason) {
+    case DEV_STOP_ALREADY_DEVELOPABLE: return "already_developable";
+    case DEV_STOP_CONVERGED: return "converged";
+    default: return "iteration_limit";
+  }
+}
+
+std::string json_number(double value) {
+  if (!std::isfinite(value)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(17) << value;
+  return s.str();
+}
+
+void write_report(const std::string& path, const dev_result* result, const dev_stats& s,
+                  const dev_params& params) {
+  std::ostringstream json;
+  json << "{\n  \"engine_version\": \"" << dev_version_string() << "\",\n";
+  json << "  \"parameters\": {\"omega\": " << json_number(params.omega)
+       << ", \"tolerance_ae\": " << json_number(params.tolerance)
+       << ", \"max_iterations\": " << params.max_iterations << ", \"mode\": \""
+       << (params.mode == DEV_MODE_PAPER ? "paper" : "refit") << "\", \"solver\": \""
+       << (params.solver == DEV_SOLVER_COUPLED ? "coupled" : "decoupled")
+       << "\", \"pin_boundary\": " << (params.pin_boundary ? "true" : "false")
+       << ", \"mls_weights\": " << (params.use_mls_weights ? "true" : "false")
+       << ", \"segmentation\": " << params.segmentation
+       << ", \"seams\": \"" << (params.seams == DEV_SEAMS_PINNED ? "pinned" : "free") << "\"},\n";
+  json << "  \"stats\": {\"vertices\": " << s.vertices << ", \"faces\": " << s.faces
+       << ", \"interior_vertices\": " << s.interior_vertices << ", \"patches\": " << s.patches
+       << ", \"curves\": " << s.curves << ", \"iterations\": " << s.iterations
+       << ", \"stop_reason\": \"" << stop_reason_name(s.stop_reason) << "\""
+       << ", \"average_edge_length\": " << json_number(s.average_edge_length)
+       << ", \"mean_defect_before\": " << json_number(s.mean_defect_before)
+       << ", \"mean_defect_after\": " << json_number(s.mean_defect_after)
+       << ", \"max_defect_before\": " << json_number(s.max_defect_before)
+       << ", \"max_defect_after\": " << json_number(s.max_defect_after)
+       << ", \"change_percent\": " << json_number(s.change_percent)
+       << ", \"max_vertex_move\": " << json_number(s.max_vertex_move)
+       << ", \"time_decompose_ms\": " << json_number(s.time_decompose_ms)
+       << ", \"time_iterate_ms\": " << json_number(s.time_iterate_ms)
+       << ", \"time_total_ms\": " << json_number(s.time_total_ms) << "},\n";
+  std::vector<int32_t> patches(static_cast<size_t>(s.faces));
+  dev_result_patch_ids(result, patches.data(), s.faces);
+  json << "  \"patch_ids\": [";
+  for (size_t f = 0; f < patches.size(); ++f) json << (f ? "," : "") << patches[f];
+  json << "],\n  \"curves\": [";
+  for (int64_t c = 0; c < dev_result_curve_count(result); ++c) {
+    int64_t count = 0;
+    int32_t patch = 0, closed = 0;
+    dev_result_curve_info(result, c, &count, &patch, &closed);
+    std::vector<double> points(static_cast<size_t>(3 * count));
+    dev_result_curve_points(result, c, points.data(), 3 * count);
+    json << (c ? "," : "") << "\n    {\"patch\": " << patch << ", \"closed\": "
+         << (closed ? "true" : "false") << ", \"points\": [";
+    for (int64_t p = 0; p < count; ++p) {
+      json << (p ? "," : "") << "[" << json_number(points[3 * p]) << ","
+           << json_number(points[3 * p + 1]) << "," << json_number(points[3 * p + 2]) << "]";
+    }
+    json << "]}";
+  }
+  json << "\n  ]\n}\n";
+  const std::string temporary = path + ".partial";
+  {
+    std::ofstream out(temporary);
+    out << json.str();
+    if (!out) die(1, "cannot write report " + path);
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) die(1, "cannot write report " + path);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  dev_params params;
+  dev_default_params(&params);
+  std::vector<std::string> files;
+  std::string pin_file, report_file;
+  bool quiet = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&]() -> const char* {
+      if (i + 1 >= argc) die(1, arg + " needs a value (see --help)");
+      return argv[++i];
+    };
+    auto choice = [&](std::initializer_list<const char*> names) {
+      const std::string given = value();
+      int index = 0;
+      for (const char* name : names) {
+        if (given == name) return index;
+        ++index;
+      }
+      die(1, arg + ": unknown value '" + given + "' (see --help)");
+    };
+    if (arg == "--help" || arg == "-h") {
+      std::cout << usage_text;
+      return 0;
+    } else if (arg == "--omega") {
+      params.omega = parse_number(arg, value());
+    } else if (arg == "--tolerance") {
+      params.tolerance = parse_number(arg, value());
+    } else if (arg == "--max-iterations") {
+      params.max_iterations = parse_integer(arg, value());
+    } else if (arg == "--mode") {
+      params.mode = choice({"refit", "paper"}) == 0 ? DEV_MODE_REFIT : DEV_MODE_PAPER;
+    } else if (arg == "--solver") {
+      params.solver = choice({"decoupled", "coupled"}) == 0 ? DEV_SOLVER_DECOUPLED : DEV_SOLVER_COUPLED;
+    } else if (arg == "--pin-boundary") {
+      params.pin_boundary = 1;
+    } else if (arg == "--pin") {
+      pin_file = value();
+    } else if (arg == "--no-mls") {
+      params.use_mls_weights = 0;
+    } else if (arg == "--segmentation") {
+      const int index = choice({"auto", "on", "off"});
+      params.segmentation = index == 0 ? -1 : (index == 1 ? 1 : 0);
+    } else if (arg == "--patches") {
+      params.target_patches = parse_integer(arg, value());
+    } else if (arg == "--segment-error") {
+      params.segment_max_error = parse_number(arg, value());
+    } else if (arg == "--seams") {
+      params.seams = choice({"free", "pinned"}) == 0 ? DEV_SEAMS_FREE : DEV_SEAMS_PINNED;
+    } else if (arg == "--report") {
+      report_file = value();
+    } else if (arg == "--quiet" || arg == "-q") {
+      quiet = true;
+    } else if (!arg.empty() && arg[0] == '-') {
+      die(1, "unknown option " + arg + " (see --help)");
+    } else {
+      files.push_back(arg);
+    }
+  }
+  if (files.size() != 2) die(1, "need INPUT and OUTPUT files (see --help)");
+  if (dev_abi_version() != DEV_ABI_VERSION) die(1, "the engine library does not match this tool");
+  if (!developable_tool::can_write(files[1]))
+    die(1, "cannot write '" + files[1] + "': use .obj, .off, .ply or .stl");
+
+  developable_tool::RawMesh mesh;
+  std::string error;
+  if (!developable_tool::read_raw_mesh(files[0], mesh, error)) die(1, error);
+  std::vector<uint8_t> pinned;
+  if (!pin_file.empty()) pinned = read_pins(pin_file, mesh.vertex_count());
+
+  dev_result* result = nullptr;
+  char message[1024];
+  const int32_t status = dev_run(mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(),
+                                 mesh.triangle_count(), pinned.empty() ? nullptr : pinned.data(),
+                                 &params, quiet ? nullptr : print_progress, nullptr, &result,
+                                 message, sizeof message);
+  if (!quiet) std::fprintf(stderr, "\n");
+  if (status != DEV_STATUS_OK) die(2, std::string(files[0]) + ": " + message);
+
+  dev_stats stats;
+  dev_result_stats(result, &stats);
+  std::vector<double> positions(mesh.positions.size());
+  dev_result_positions(result, positions.data(), static_cast<int64_t>(positions.size()));
+  if (!report_file.empty()) write_report(report_file, result, stats, params);
+  dev_result_free(result);
+  if (!developable_tool::write_mesh(files[1], positions, mesh.triangles, error)) die(1, error);
+
+  if (!quiet) {
+    std::fprintf(stderr,
+                 "#v %lld  #f %lld  AE %.4g  patches %lld\n"
+                 "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
+                 "iterations %d (%s)  largest move %.4g (%.3g AE)\n"
+                 "t_D %.2f ms  t_I %.2f ms  t_T %.2f ms\n",
+                 static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces),
+                 stats.average_edge_length, static_cast<long long>(stats.patches),
+                 stats.mean_defect_before, stats.mean_defect_after, stats.change_percent,
+                 stats.max_defect_before, stats.max_defect_after, stats.iterations,
+                 stop_reason_name(stats.stop_reason), stats.max_vertex_move,
+                 stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
+                 stats.time_iterate_ms, stats.time_total_ms);
+  }
+  return 0;
+}

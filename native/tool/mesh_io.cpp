@@ -1,0 +1,155 @@
+#include "mesh_io.h"
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include <cstdio>
+#include <fstream>
+
+namespace developable_tool {
+namespace {
+
+using namespace OpenMesh;
+
+struct DoubleTraits : public DefaultTraits {
+  typedef Vec3d Point;
+};
+using PolyMesh = PolyMesh_ArrayKernelT<DoubleTraits>;
+
+// Records vertices and faces as the reader sees them. OpenMesh's own importer
+// silently drops faces that would make the mesh non-manifold; this one keeps
+// them so that the engine reports the problem instead of hiding it.
+class RawImporter : public IO::BaseImporter {
+ public:
+  explicit RawImporter(RawMesh& mesh) : mesh_(mesh) {}
+
+  VertexHandle add_vertex(const Vec3f& p) override { return add_vertex(Vec3d(p)); }
+  VertexHandle add_vertex(const Vec3d& p) override {
+    mesh_.positions.insert(mesh_.positions.end(), {p[0], p[1], p[2]});
+    return VertexHandle(static_cast<int>(mesh_.vertex_count() - 1));
+  }
+  VertexHandle add_vertex() override { return add_vertex(Vec3d(0.0, 0.0, 0.0)); }
+  FaceHandle add_face(const VHandles& polygon) override {
+    // Fans keep the polygon's orientation. A face with fewer than three
+    // corners becomes a degenerate triangle, which the engine then names.
+    auto corner = [&](size_t i) { return polygon.empty() ? -1 : polygon[std::min(i, polygon.size() - 1)].idx(); };
+    const size_t fans = polygon.size() < 3 ? 1 : polygon.size() - 2;
+    for (size_t i = 1; i <= fans; ++i) {
+      mesh_.triangles.insert(mesh_.triangles.end(), {corner(0), corner(i), corner(i + 1)});
+      mesh_.polygon_of_triangle.push_back(polygons_);
+    }
+    return FaceHandle(static_cast<int>(polygons_++));
+  }
+  size_t n_vertices() const override { return static_cast<size_t>(mesh_.vertex_count()); }
+  size_t n_faces() const override { return static_cast<size_t>(polygons_); }
+  size_t n_edges() const override { return 0; }
+
+  // Everything else a reader may hand over (normals, colours, texture
+  // coordinates, half-edge structure) is not used by the engine.
+  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
+  FaceHandle add_face(HalfedgeHandle) override { return FaceHandle(); }
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
+  void set_face_texindex(FaceHandle, int) override {}
+  void set_point(VertexHandle v, const Vec3f& p) override {
+    if (v.idx() >= 0 && v.idx() < mesh_.vertex_count())
+      for (int a = 0; a < 3; ++a) mesh_.positions[3 * static_cast<size_t>(v.idx()) + a] = p[a];
+  }
+  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
+  void set_normal(VertexHandle, const Vec3f&) override {}
+  void set_normal(VertexHandle, const Vec3d&) override {}
+  void set_color(VertexHandle, const Vec3uc&) override {}
+  void set_color(VertexHandle, const Vec4uc&) override {}
+  void set_color(VertexHandle, const Vec3f&) override {}
+  void set_color(VertexHandle, const Vec4f&) override {}
+  void set_texcoord(VertexHandle, const Vec2f&) override {}
+  void set_status(VertexHandle, const Attributes::StatusInfo&) override {}
+  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
+  void set_face(HalfedgeHandle, FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
+  void set_texcoord(VertexHandle, const Vec3f&) override {}
+  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
+  void set_status(HalfedgeHandle, const Attributes::StatusInfo&) override {}
+  void set_color(EdgeHandle, const Vec3uc&) override {}
+  void set_color(EdgeHandle, const Vec4uc&) override {}
+  void set_color(EdgeHandle, const Vec3f&) override {}
+  void set_color(EdgeHandle, const Vec4f&) override {}
+  void set_status(EdgeHandle, const Attributes::StatusInfo&) override {}
+  void set_normal(FaceHandle, const Vec3f&) override {}
+  void set_normal(FaceHandle, const Vec3d&) override {}
+  void set_color(FaceHandle, const Vec3uc&) override {}
+  void set_color(FaceHandle, const Vec4uc&) override {}
+  void set_color(FaceHandle, const Vec3f&) override {}
+  void set_color(FaceHandle, const Vec4f&) override {}
+  void set_status(FaceHandle, const Attributes::StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+
+ private:
+  RawMesh& mesh_;
+  int64_t polygons_ = 0;
+};
+
+std::string extension(const std::string& path) {
+  const size_t dot = path.find_last_of('.');
+  return dot == std::string::npos ? std::string() : path.substr(dot + 1);
+}
+
+}  // namespace
+
+bool read_raw_mesh(const std::string& path, RawMesh& mesh, std::string& error) {
+  if (!std::ifstream(path).good()) {
+    error = "cannot open " + path;
+    return false;
+  }
+  if (!IO::IOManager().can_read(extension(path))) {
+    error = "unknown mesh format '." + extension(path) + "' (use .obj, .off, .ply or .stl)";
+    return false;
+  }
+  mesh = RawMesh{};
+  RawImporter importer(mesh);
+  IO::Options options;
+  if (!IO::IOManager().read(path, importer, options)) {
+    error = "cannot read " + path + " as a mesh";
+    return false;
+  }
+  return true;
+}
+
+bool can_write(const std::string& path) { return IO::IOManager().can_write(extension(path)); }
+
+bool write_mesh(const std::string& path, const std::vector<double>& positions,
+                const std::vector<int32_t>& triangles, std::string& error) {
+  PolyMesh mesh;
+  std::vector<PolyMesh::VertexHandle> handles;
+  handles.reserve(positions.size() / 3);
+  for (size_t v = 0; v + 2 < positions.size(); v += 3)
+    handles.push_back(mesh.add_vertex(PolyMesh::Point(positions[v], positions[v + 1], positions[v + 2])));
+  for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const PolyMesh::FaceHandle face = mesh.add_face(handles[static_cast<size_t>(triangles[t])],
+                                                    handles[static_cast<size_t>(triangles[t + 1])],
+                                                    handles[static_cast<size_t>(triangles[t + 2])]);
+    if (!face.is_valid()) {
+      error = "cannot build the output mesh (triangle " + std::to_string(t / 3) + ")";
+      return false;
+    }
+  }
+  // The extension decides the format: keep it on the temporary name.
+  const std::string temporary = path + ".partial." + extension(path);
+  const IO::Options options;
+  if (!IO::write_mesh(mesh, temporary, options, 17)) {
+    std::remove(temporary.c_str());
+    error = "cannot write " + path;
+    return false;
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    error = "cannot move the result to " + path;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace developable_tool

@@ -1,0 +1,374 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""ctypes binding of the developable engine (native/developable.h).
+
+No bpy here: this module can be imported and tested from any Python with numpy.
+
+The library is searched, in order:
+  1. $DEVELOPABLE_LIBRARY (a path to the .so), when set;
+  2. inside the add-on folder (where the packaged zip puts it);
+  3. the repository's build/lib (development checkout: addon/ beside build/).
+"""
+
+import ctypes
+import os
+import sys
+import threading
+
+import numpy as np
+
+ABI_VERSION = 1  # DEV_ABI_VERSION this binding was written against
+
+# Status codes (developable.h), values are stable.
+STATUS_NAMES = {
+    0: "OK",
+    1: "EMPTY_INPUT",
+    2: "INDEX_OUT_OF_RANGE",
+    3: "NON_FINITE_COORDINATE",
+    4: "DEGENERATE_TRIANGLE",
+    5: "DUPLICATE_TRIANGLE",
+    6: "NON_MANIFOLD",
+    7: "INVALID_ARGUMENT",
+    8: "NO_FREE_VERTEX",
+    9: "CANCELLED",
+    10: "NUMERICAL_FAILURE",
+    11: "OUT_OF_MEMORY",
+    12: "INTERNAL_ERROR",
+}
+STATUS_OK = 0
+STATUS_CANCELLED = 9
+
+MODE_REFIT = 0
+MODE_PAPER = 1
+SEAMS_FREE = 0
+SEAMS_PINNED = 1
+
+STOP_REASONS = {0: "already developable", 1: "converged", 2: "iteration limit"}
+
+if sys.platform.startswith("win"):
+    LIBRARY_FILE = "developable.dll"
+elif sys.platform == "darwin":
+    LIBRARY_FILE = "libdevelopable.dylib"
+else:
+    LIBRARY_FILE = "libdevelopable.so"
+
+ENV_VAR = "DEVELOPABLE_LIBRARY"
+ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
+
+
+class dev_params(ctypes.Structure):
+    _fields_ = [
+        ("omega", ctypes.c_double),
+        ("tolerance", ctypes.c_double),
+        ("max_iterations", ctypes.c_int32),
+        ("mode", ctypes.c_int32),
+        ("pin_boundary", ctypes.c_int32),
+        ("use_mls_weights", ctypes.c_int32),
+        ("stop_relative_change", ctypes.c_double),
+        ("developable_threshold", ctypes.c_double),
+        ("segmentation", ctypes.c_int32),
+        ("target_patches", ctypes.c_int32),
+        ("segment_max_error", ctypes.c_double),
+        ("seams", ctypes.c_int32),
+        ("grid_resolution", ctypes.c_int32),
+    ]
+
+
+# The engine parameters, in struct order (properties.py builds one Blender
+# property per name).
+PARAM_NAMES = tuple(name for name, _ in dev_params._fields_)
+
+
+class dev_stats(ctypes.Structure):
+    _fields_ = [
+        ("vertices", ctypes.c_int64),
+        ("faces", ctypes.c_int64),
+        ("interior_vertices", ctypes.c_int64),
+        ("patches", ctypes.c_int64),
+        ("curves", ctypes.c_int64),
+        ("iterations", ctypes.c_int32),
+        ("stop_reason", ctypes.c_int32),
+        ("average_edge_length", ctypes.c_double),
+        ("mean_defect_before", ctypes.c_double),
+        ("mean_defect_after", ctypes.c_double),
+        ("max_defect_before", ctypes.c_double),
+        ("max_defect_after", ctypes.c_double),
+        ("change_percent", ctypes.c_double),
+        ("max_vertex_move", ctypes.c_double),
+        ("time_decompose_ms", ctypes.c_double),
+        ("time_iterate_ms", ctypes.c_double),
+        ("time_total_ms", ctypes.c_double),
+    ]
+
+
+PROGRESS_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_double, ctypes.c_char_p, ctypes.c_void_p)
+
+_P = ctypes.POINTER
+_dbl_p = _P(ctypes.c_double)
+_i32_p = _P(ctypes.c_int32)
+_i64_p = _P(ctypes.c_int64)
+_u8_p = _P(ctypes.c_uint8)
+_result_p = ctypes.c_void_p
+
+
+class LibraryError(RuntimeError):
+    """The native library is missing, unloadable or of another ABI version.
+    The message says what to do; the add-on reports it instead of a traceback."""
+
+
+class EngineError(RuntimeError):
+    """dev_run/dev_validate returned a status other than OK."""
+
+    def __init__(self, status, message):
+        self.status = status
+        self.status_name = STATUS_NAMES.get(status, "UNKNOWN(%d)" % status)
+        self.message = message
+        super().__init__("%s: %s" % (self.status_name, message))
+
+
+def candidate_paths():
+    """Where the library is looked for, in order."""
+    paths = []
+    env = os.environ.get(ENV_VAR)
+    if env:
+        paths.append(env)
+    paths.append(os.path.join(ADDON_DIR, LIBRARY_FILE))
+    paths.append(os.path.join(os.path.dirname(ADDON_DIR), "build", "lib", LIBRARY_FILE))
+    return paths
+
+
+_HOW_TO_FIX = (
+    "Install the add-on from the release zip (it ships %s), or build the engine "
+    "(cmake -S <repo> -B <repo>/build && cmake --build <repo>/build) or point %s at the library."
+    % (LIBRARY_FILE, ENV_VAR)
+)
+
+_lock = threading.Lock()
+_library = None
+_library_path = None
+
+
+def _declare(lib):
+    lib.dev_abi_version.restype = ctypes.c_int32
+    lib.dev_abi_version.argtypes = []
+    lib.dev_version_string.restype = ctypes.c_char_p
+    lib.dev_version_string.argtypes = []
+    lib.dev_default_params.restype = None
+    lib.dev_default_params.argtypes = [_P(dev_params)]
+    lib.dev_run.restype = ctypes.c_int32
+    lib.dev_run.argtypes = [
+        _dbl_p, ctypes.c_int64, _i32_p, ctypes.c_int64, _u8_p, _P(dev_params),
+        PROGRESS_FN, ctypes.c_void_p, _P(_result_p), ctypes.c_char_p, ctypes.c_size_t,
+    ]
+    lib.dev_validate.restype = ctypes.c_int32
+    lib.dev_validate.argtypes = [_dbl_p, ctypes.c_int64, _i32_p, ctypes.c_int64,
+                                 ctypes.c_char_p, ctypes.c_size_t]
+    lib.dev_result_free.restype = None
+    lib.dev_result_free.argtypes = [_result_p]
+    lib.dev_result_stats.restype = ctypes.c_int32
+    lib.dev_result_stats.argtypes = [_result_p, _P(dev_stats)]
+    for name, ptr in (("dev_result_positions", _dbl_p), ("dev_result_defect_before", _dbl_p),
+                      ("dev_result_defect_after", _dbl_p), ("dev_result_interior", _u8_p),
+                      ("dev_result_target_normals", _dbl_p), ("dev_result_patch_ids", _i32_p)):
+        fn = getattr(lib, name)
+        fn.restype = ctypes.c_int32
+        fn.argtypes = [_result_p, ptr, ctypes.c_int64]
+    lib.dev_result_curve_count.restype = ctypes.c_int64
+    lib.dev_result_curve_count.argtypes = [_result_p]
+    lib.dev_result_curve_info.restype = ctypes.c_int32
+    lib.dev_result_curve_info.argtypes = [_result_p, ctypes.c_int64, _i64_p, _i32_p, _i32_p]
+    lib.dev_result_curve_points.restype = ctypes.c_int32
+    lib.dev_result_curve_points.argtypes = [_result_p, ctypes.c_int64, _dbl_p, ctypes.c_int64]
+
+
+def load(force_reload=False):
+    """Returns the loaded library (ctypes.CDLL); raises LibraryError with advice."""
+    global _library, _library_path
+    with _lock:
+        if _library is not None and not force_reload:
+            return _library
+        tried = []
+        for path in candidate_paths():
+            if not os.path.isfile(path):
+                tried.append("%s (not found)" % path)
+                continue
+            try:
+                lib = ctypes.CDLL(path)
+            except OSError as exc:
+                raise LibraryError("Could not load the developable engine %s: %s. %s"
+                                   % (path, exc, _HOW_TO_FIX)) from None
+            try:
+                lib.dev_abi_version.restype = ctypes.c_int32
+                abi = lib.dev_abi_version()
+            except AttributeError:
+                raise LibraryError("%s is not the developable engine (no dev_abi_version). %s"
+                                   % (path, _HOW_TO_FIX)) from None
+            if abi != ABI_VERSION:
+                raise LibraryError(
+                    "The developable engine %s has ABI version %d but this add-on needs %d: "
+                    "install the add-on and library from the same release (rebuild the library "
+                    "or update the add-on)." % (path, abi, ABI_VERSION))
+            try:
+                _declare(lib)
+            except AttributeError as exc:
+                raise LibraryError("The developable engine %s lacks a function (%s). %s"
+                                   % (path, exc, _HOW_TO_FIX)) from None
+            _library, _library_path = lib, path
+            return lib
+        raise LibraryError("The developable engine library was not found; looked at: %s. %s"
+                           % ("; ".join(tried), _HOW_TO_FIX))
+
+
+def library_path():
+    return _library_path
+
+
+def try_load():
+    """(library or None, error message or "")."""
+    try:
+        return load(), ""
+    except LibraryError as exc:
+        return None, str(exc)
+
+
+def version():
+    return load().dev_version_string().decode("utf-8", "replace")
+
+
+def default_params():
+    """dict name -> default value, from the library."""
+    p = dev_params()
+    load().dev_default_params(ctypes.byref(p))
+    return {name: getattr(p, name) for name in PARAM_NAMES}
+
+
+def make_params(values):
+    """dev_params from the library's defaults overridden by `values` (a dict)."""
+    p = dev_params()
+    load().dev_default_params(ctypes.byref(p))
+    for name, value in (values or {}).items():
+        if name in PARAM_NAMES:
+            setattr(p, name, value)
+    return p
+
+
+def _as_positions(positions):
+    a = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1, 3)
+    return a
+
+
+def _as_triangles(triangles):
+    return np.ascontiguousarray(triangles, dtype=np.int32).reshape(-1, 3)
+
+
+def validate(positions, triangles):
+    """(status, message) of the engine's input check."""
+    lib = load()
+    pos = _as_positions(positions)
+    tri = _as_triangles(triangles)
+    msg = ctypes.create_string_buffer(1024)
+    status = lib.dev_validate(pos.ctypes.data_as(_dbl_p), pos.shape[0],
+                              tri.ctypes.data_as(_i32_p), tri.shape[0], msg, len(msg))
+    return status, msg.value.decode("utf-8", "replace")
+
+
+class Result:
+    """Everything the add-on needs from one successful run, copied out of the
+    native result (which is freed before this object is returned)."""
+
+    def __init__(self):
+        self.stats = {}
+        self.positions = None        # (n, 3) float64
+        self.defect_before = None    # (n,) float64
+        self.defect_after = None     # (n,) float64
+        self.interior = None         # (n,) bool
+        self.target_normals = None   # (t, 3) float64
+        self.patch_ids = None        # (t,) int32
+        self.curves = []             # list of (points (k,3) float64, patch, closed)
+
+
+def _copy_result(lib, res, n_vertices, n_triangles):
+    out = Result()
+    st = dev_stats()
+    _check(lib.dev_result_stats(res, ctypes.byref(st)), "dev_result_stats")
+    out.stats = {name: getattr(st, name) for name, _ in dev_stats._fields_}
+
+    def get(fn, shape, dtype, ptr):
+        a = np.empty(shape, dtype=dtype)
+        _check(fn(res, a.ctypes.data_as(ptr), a.size), fn.__name__)
+        return a
+
+    out.positions = get(lib.dev_result_positions, (n_vertices, 3), np.float64, _dbl_p)
+    out.defect_before = get(lib.dev_result_defect_before, (n_vertices,), np.float64, _dbl_p)
+    out.defect_after = get(lib.dev_result_defect_after, (n_vertices,), np.float64, _dbl_p)
+    out.interior = get(lib.dev_result_interior, (n_vertices,), np.uint8, _u8_p).astype(bool)
+    out.target_normals = get(lib.dev_result_target_normals, (n_triangles, 3), np.float64, _dbl_p)
+    out.patch_ids = get(lib.dev_result_patch_ids, (n_triangles,), np.int32, _i32_p)
+    count = lib.dev_result_curve_count(res)
+    for i in range(max(0, count)):
+        n_points = ctypes.c_int64(0)
+        patch = ctypes.c_int32(0)
+        closed = ctypes.c_int32(0)
+        _check(lib.dev_result_curve_info(res, i, ctypes.byref(n_points), ctypes.byref(patch),
+                                         ctypes.byref(closed)), "dev_result_curve_info")
+        pts = np.empty((n_points.value, 3), dtype=np.float64)
+        if n_points.value:
+            _check(lib.dev_result_curve_points(res, i, pts.ctypes.data_as(_dbl_p), pts.size),
+                   "dev_result_curve_points")
+        out.curves.append((pts, patch.value, bool(closed.value)))
+    return out
+
+
+def _check(status, what):
+    if status != STATUS_OK:
+        raise EngineError(status, "%s failed" % what)
+
+
+def run(positions, triangles, pinned=None, params=None, progress=None):
+    """Runs the engine. Blocks; ctypes releases the GIL during dev_run, so this
+    may run on a worker thread while Blender's UI keeps going.
+
+    positions: (n, 3); triangles: (t, 3) int; pinned: None or (n,) bool;
+    params: dict of PARAM_NAMES -> value (missing ones keep the defaults);
+    progress: None or callable(fraction, stage) -> bool (False cancels).
+    Returns Result; raises EngineError (status != OK, CANCELLED included) or LibraryError.
+    """
+    lib = load()
+    pos = _as_positions(positions)
+    tri = _as_triangles(triangles)
+    n, t = pos.shape[0], tri.shape[0]
+    pin_ptr = None
+    if pinned is not None:
+        pin = np.ascontiguousarray(pinned, dtype=np.uint8).reshape(-1)
+        if pin.shape[0] != n:
+            raise EngineError(7, "pinned has %d entries for %d vertices" % (pin.shape[0], n))
+        pin_ptr = pin.ctypes.data_as(_u8_p)
+    p = make_params(params)
+
+    errors = []
+
+    def _callback(fraction, stage, _user):
+        if progress is None:
+            return 1
+        try:
+            go_on = progress(float(fraction), stage.decode("utf-8", "replace") if stage else "")
+            return 1 if go_on else 0
+        except Exception as exc:  # never let a Python error cross into C
+            errors.append(exc)
+            return 0
+
+    cb = PROGRESS_FN(_callback)  # kept alive for the duration of the call
+    res = _result_p()
+    msg = ctypes.create_string_buffer(1024)
+    status = lib.dev_run(pos.ctypes.data_as(_dbl_p), n, tri.ctypes.data_as(_i32_p), t,
+                         pin_ptr, ctypes.byref(p), cb, None, ctypes.byref(res), msg, len(msg))
+    message = msg.value.decode("utf-8", "replace")
+    if status != STATUS_OK:
+        if res.value:
+            lib.dev_result_free(res)
+        if errors:
+            message = "%s (progress callback raised %r)" % (message, errors[0])
+        raise EngineError(status, message)
+    try:
+        return _copy_result(lib, res, n, t)
+    finally:
+        lib.dev_result_free(res)

@@ -1,0 +1,162 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The sidebar panel (3D viewport, N panel, tab "Developable")."""
+
+import bpy
+from bpy.types import Panel
+
+from . import gauss_image, native, writeback
+from .operators import MESH_OT_make_developable
+from .properties import ENGINE_PARAMETERS, PIN_PARAMETERS
+
+CATEGORY = "Developable"
+
+
+def draw_parameters(layout, owner, obj):
+    """Engine parameters and pins of `owner` (scene settings or the operator)."""
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+    col = layout.column(align=True)
+    col.prop(owner, "omega")
+    col.prop(owner, "tolerance")
+    col.prop(owner, "max_iterations")
+    layout.prop(owner, "mode")
+    col = layout.column(align=True, heading="Stop")
+    col.prop(owner, "stop_relative_change")
+    col.prop(owner, "developable_threshold")
+    col = layout.column(align=True)
+    col.prop(owner, "segmentation")
+    sub = col.column(align=True)
+    sub.active = owner.segmentation != 'OFF'
+    sub.prop(owner, "target_patches")
+    sub.prop(owner, "segment_max_error")
+    sub.prop(owner, "seams")
+    layout.prop(owner, "grid_resolution")
+    box = layout.column(heading="Pins")
+    box.prop(owner, "pin_boundary", text="Boundary")
+    if obj is not None and obj.type == 'MESH':
+        box.prop_search(owner, "pin_group", obj, "vertex_groups", text="Vertex Group")
+    else:
+        box.prop(owner, "pin_group")
+    box.prop(owner, "pin_selection", text="Selection (Edit mode)")
+    box.prop(owner, "use_mls_weights")
+    layout.prop(owner, "gauss_image")
+
+
+class VIEW3D_PT_developable(Panel):
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = CATEGORY
+    bl_label = "Make Developable"
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.active_object
+        lib, err = native.try_load()
+        if lib is None:
+            col = layout.column(align=True)
+            col.alert = True
+            col.label(text="Engine library not available", icon='ERROR')
+            for line in _wrap(err, 42):
+                col.label(text=line)
+        else:
+            layout.label(text="Engine %s" % native.version(), icon='CHECKMARK')
+        if obj is None or obj.type != 'MESH':
+            layout.label(text="Select a mesh object", icon='INFO')
+        settings = context.scene.developable
+        row = layout.row()
+        row.scale_y = 1.5
+        row.enabled = lib is not None
+        op = row.operator(MESH_OT_make_developable.bl_idname, text="Run", icon='PLAY')
+        for name in ENGINE_PARAMETERS + PIN_PARAMETERS:
+            setattr(op, name, getattr(settings, name))
+        if context.mode == 'EDIT_MESH' and settings.pin_selection:
+            layout.label(text="Selected vertices will be pinned", icon='PINNED')
+
+
+class VIEW3D_PT_developable_parameters(Panel):
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = CATEGORY
+    bl_parent_id = "VIEW3D_PT_developable"
+    bl_label = "Parameters"
+
+    def draw(self, context):
+        draw_parameters(self.layout, context.scene.developable, context.active_object)
+
+
+class VIEW3D_PT_developable_result(Panel):
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = CATEGORY
+    bl_parent_id = "VIEW3D_PT_developable"
+    bl_label = "Last Run"
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.active_object
+        if obj is None or obj.type != 'MESH' or not obj.developable.has_result:
+            layout.label(text="No run on this object yet")
+            return
+        rec = obj.developable
+        grid = layout.grid_flow(row_major=True, columns=2, even_columns=False, align=True)
+        for label, value in (
+                ("E before", "%.4g rad" % rec.e_before),
+                ("E after", "%.4g rad" % rec.e_after),
+                ("dE", "%+.1f %%" % rec.change_percent),
+                ("Time", "%.0f ms (t_D %.0f, t_I %.0f)" % (rec.time_ms, rec.time_decompose_ms,
+                                                          rec.time_iterate_ms)),
+                ("Iterations", "%d (%s)" % (rec.iterations, rec.stop_reason)),
+                ("Largest move", "%.4g (%.2f AE)" % (rec.max_move, rec.max_move_ae)),
+                ("Patches", "%d, %d curves" % (rec.patches, rec.curves)),
+                ("Pinned", "%d vertices" % rec.pinned)):
+            grid.label(text=label)
+            grid.label(text=value)
+
+        keys = obj.data.shape_keys
+        kb = keys.key_blocks.get(writeback.SHAPE_KEY) if keys else None
+        if kb is not None:
+            layout.prop(kb, "value", text="Developable", slider=True)
+
+        col = layout.column(align=True)
+        col.label(text="Defect colours")
+        row = col.row(align=True)
+        row.prop(rec, "show_after", text="After" if rec.show_after else "Before",
+                 toggle=True, icon='HIDE_OFF')
+        col.label(text="Scale: blue -%.3g  white 0  red +%.3g rad"
+                  % (rec.colour_scale, rec.colour_scale))
+        col.label(text="(same scale before and after; grey: boundary)")
+        if context.space_data and getattr(context.space_data, "shading", None):
+            shading = context.space_data.shading
+            if shading.type == 'SOLID':
+                col.prop(shading, "color_type", text="Viewport Colour")
+
+        if gauss_image.exists(obj):
+            layout.prop(rec, "show_gauss_image", text="Show Gauss Image")
+        else:
+            layout.label(text="Gauss image: tick 'Gauss Image' and run", icon='SPHERE')
+
+
+def _wrap(text, width):
+    words, line, lines = text.split(), "", []
+    for w in words:
+        if len(line) + len(w) + 1 > width and line:
+            lines.append(line)
+            line = w
+        else:
+            line = (line + " " + w).strip()
+    if line:
+        lines.append(line)
+    return lines
+
+
+classes = (VIEW3D_PT_developable, VIEW3D_PT_developable_parameters, VIEW3D_PT_developable_result)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,627 @@
+#include "segmentation.h"
+
+#include "cone_fit.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <queue>
+#include <tuple>
+#include <vector>
+
+namespace developable {
+
+namespace {
+
+// Defaults and weights; docs/segmentation.md tells how they were measured.
+constexpr double kDefaultMaxFitError = 0.05;   // rad, area-weighted RMS
+constexpr double kCreaseAngle = 0.4363323129985824;  // 25 deg between neighbour normals
+constexpr double kCompactnessWeight = 0.5;
+constexpr double kBoundaryWeight = 1.0;
+constexpr double kCreaseWeight = 10.0;
+constexpr int kMinPatchFaces = 20;
+constexpr double kMinPatchAreaFraction = 0.005;
+constexpr int kSplitRounds = 3;       // Lloyd rounds after each batch of new seeds
+constexpr int kSettleRounds = 10;     // Lloyd rounds once the count is fixed
+constexpr int kMaxSplitIterations = 16;
+constexpr double kSettledFraction = 1e-3;
+
+constexpr const char* kStage = "segmentation";
+
+// Fewest faces of a patch: kMinPatchFaces, scaled down on coarse meshes (a
+// 40-face cube keeps its 8-face sides).
+int min_patch_faces(int face_count) { return std::min(kMinPatchFaces, face_count / 50); }
+
+// Per-face geometry, computed once.
+struct FaceGeometry {
+  std::vector<Eigen::Vector3d> normal;    // unit
+  std::vector<double> area;
+  std::vector<Eigen::Vector3d> centroid;
+  double total_area = 0.0;
+};
+
+// Edge i of face f joins its corners i and (i + 1) % 3.
+struct FaceAdjacency {
+  std::vector<std::array<int, 3>> neighbour;     // -1 on a boundary edge
+  std::vector<std::array<double, 3>> length;     // edge length
+  std::vector<std::array<double, 3>> jump;       // angle between the two face normals, rad
+  std::vector<double> perimeter;
+};
+
+// A chart while growing: its seed face, its cone, and its area in the last
+// labelling (the scale of the compactness term).
+struct Chart {
+  int seed = 0;
+  Cone cone;
+  double area = 0.0;
+};
+
+// What the cost terms are measured against.
+struct GrowthScale {
+  double max_fit_error = kDefaultMaxFitError;
+};
+
+FaceGeometry face_geometry(const Positions& positions, const Triangles& triangles) {
+  const Eigen::Index face_count = triangles.rows();
+  FaceGeometry geometry;
+  geometry.normal.resize(face_count);
+  geometry.area.resize(face_count);
+  geometry.centroid.resize(face_count);
+  for (Eigen::Index f = 0; f < face_count; ++f) {
+    const Eigen::Vector3d p0 = positions.row(triangles(f, 0)).transpose();
+    const Eigen::Vector3d p1 = positions.row(triangles(f, 1)).transpose();
+    const Eigen::Vector3d p2 = positions.row(triangles(f, 2)).transpose();
+    const Eigen::Vector3d cross = (p1 - p0).cross(p2 - p0);
+    const double norm = cross.norm();
+    geometry.normal[f] = cross / norm;
+    geometry.area[f] = 0.5 * norm;
+    geometry.centroid[f] = (p0 + p1 + p2) / 3.0;
+    geometry.total_area += geometry.area[f];
+  }
+  return geometry;
+}
+
+// Face adjacency through a vertex -> faces table: on a manifold mesh the face
+// across edge (a, b) is the other face around a that also holds b.
+FaceAdjacency face_adjacency(const Positions& positions, const Triangles& triangles,
+                             const FaceGeometry& geometry) {
+  const int face_count = static_cast<int>(triangles.rows());
+  const int vertex_count = static_cast<int>(positions.rows());
+  std::vector<int> first(vertex_count + 1, 0);
+  for (int f = 0; f < face_count; ++f)
+    for (int i = 0; i < 3; ++i) ++first[triangles(f, i) + 1];
+  for (int v = 0; v < vertex_count; ++v) first[v + 1] += first[v];
+  std::vector<int> faces_of_vertex(first.back());
+  std::vector<int> fill(first.begin(), first.end() - 1);
+  for (int f = 0; f < face_count; ++f)
+    for (int i = 0; i < 3; ++i) faces_of_vertex[fill[triangles(f, i)]++] = f;
+
+  FaceAdjacency adjacency;
+  adjacency.neighbour.resize(face_count);
+  adjacency.length.resize(face_count);
+  adjacency.jump.resize(face_count);
+  adjacency.perimeter.assign(face_count, 0.0);
+  for (int f = 0; f < face_count; ++f) {
+    for (int i = 0; i < 3; ++i) {
+      const int a = triangles(f, i);
+      const int b = triangles(f, (i + 1) % 3);
+      int across = -1;
+      for (int k = first[a]; k < first[a + 1] && across < 0; ++k) {
+        const int g = faces_of_vertex[k];
+        if (g != f && (triangles(g, 0) == b || triangles(g, 1) == b || triangles(g, 2) == b))
+          across = g;
+      }
+      adjacency.neighbour[f][i] = across;
+      adjacency.length[f][i] = (positions.row(a) - positions.row(b)).norm();
+      adjacency.perimeter[f] += adjacency.length[f][i];
+      adjacency.jump[f][i] =
+          across < 0 ? 0.0
+                     : std::acos(std::clamp(geometry.normal[f].dot(geometry.normal[across]),
+                                            -1.0, 1.0));
+    }
+  }
+  return adjacency;
+}
+
+// Edge-connected components; returns the component of each face and the count.
+std::pair<std::vector<int>, int> face_components(const FaceAdjacency& adjacency) {
+  const int face_count = static_cast<int>(adjacency.neighbour.size());
+  std::vector<int> component(face_count, -1);
+  std::vector<int> stack;
+  int count = 0;
+  for (int start = 0; start < face_count; ++start) {
+    if (component[start] >= 0) continue;
+    component[start] = count;
+    stack.push_back(start);
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      for (const int g : adjacency.neighbour[f]) {
+        if (g >= 0 && component[g] < 0) {
+          component[g] = count;
+          stack.push_back(g);
+        }
+      }
+    }
+    ++count;
+  }
+  return {component, count};
+}
+
+// A new chart's cone before it has faces to fit: the plane of its seed.
+Chart chart_at(const FaceGeometry& geometry, int seed, double area) {
+  Chart chart;
+  chart.seed = seed;
+  chart.cone.axis = geometry.normal[seed];
+  chart.cone.angle = 0.0;
+  chart.area = area;
+  return chart;
+}
+
+// Grows every chart from its seed at once, a face at a time, always taking the
+// cheapest (chart, face) pair on the front. Cost of face f for chart c:
+//   (angle of n_f to c's cone / max_fit_error)^2           fitting
+// + kCompactnessWeight * pi |x_f - x_seed|^2 / area(c)     compactness
+// + kBoundaryWeight * (f's perimeter not on c) / perimeter  boundary straightness
+// + kCreaseWeight * (normal jump over the entry edge / kCreaseAngle)^2
+// A face only joins through an edge with the chart, so every chart stays
+// edge-connected; every face is reached when each component holds a seed.
+std::vector<int> grow_charts(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
+                             const std::vector<Chart>& charts, const GrowthScale& scale) {
+  const int face_count = static_cast<int>(adjacency.neighbour.size());
+  std::vector<int> label(face_count, -1);
+  using Entry = std::tuple<double, int, int>;  // cost, face, chart: ties broken by ids
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> front;
+  const double inverse_tolerance = 1.0 / scale.max_fit_error;
+
+  const auto push_neighbours = [&](int f, int c) {
+    const Chart& chart = charts[c];
+    for (int i = 0; i < 3; ++i) {
+      const int g = adjacency.neighbour[f][i];
+      if (g < 0 || label[g] >= 0) continue;
+      double inner = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const int h = adjacency.neighbour[g][k];
+        if (h >= 0 && label[h] == c) inner += adjacency.length[g][k];
+      }
+      const double fit = angle_to_cone(chart.cone, geometry.normal[g]) * inverse_tolerance;
+      const double distance2 =
+          (geometry.centroid[g] - geometry.centroid[chart.seed]).squaredNorm();
+      const double crease = adjacency.jump[f][i] / kCreaseAngle;
+      const double cost = fit * fit + kCompactnessWeight * M_PI * distance2 / chart.area +
+                          kBoundaryWeight * (1.0 - inner / adjacency.perimeter[g]) +
+                          kCreaseWeight * crease * crease;
+      front.emplace(cost, g, c);
+    }
+  };
+
+  for (int c = 0; c < static_cast<int>(charts.size()); ++c) label[charts[c].seed] = c;
+  for (int c = 0; c < static_cast<int>(charts.size()); ++c) push_neighbours(charts[c].seed, c);
+  while (!front.empty()) {
+    const auto [cost, f, c] = front.top();
+    front.pop();
+    if (label[f] >= 0) continue;
+    label[f] = c;
+    push_neighbours(f, c);
+  }
+  return label;
+}
+
+// Per-chart fit of a labelling.
+struct ChartFit {
+  NormalMoments moments;
+  Cone cone;
+  double area = 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // area-weighted face centroid
+  int face_count = 0;
+};
+
+std::vector<ChartFit> fit_charts(const FaceGeometry& geometry, const std::vector<int>& label,
+                                 int chart_count) {
+  std::vector<ChartFit> fits(chart_count);
+  for (int f = 0; f < static_cast<int>(label.size()); ++f) {
+    ChartFit& fit = fits[label[f]];
+    const double area = geometry.area[f];
+    fit.moments.add(geometry.normal[f], area);
+    fit.area += area;
+    fit.centroid += area * geometry.centroid[f];
+    ++fit.face_count;
+  }
+  for (ChartFit& fit : fits) {
+    fit.cone = fit_cone(fit.moments).cone;
+    fit.centroid /= fit.area;
+  }
+  return fits;
+}
+
+// Angle of every face's normal to its chart's cone.
+std::vector<double> face_fit_errors(const FaceGeometry& geometry, const std::vector<int>& label,
+                                    const std::vector<ChartFit>& fits) {
+  std::vector<double> error(label.size());
+  for (int f = 0; f < static_cast<int>(label.size()); ++f)
+    error[f] = angle_to_cone(fits[label[f]].cone, geometry.normal[f]);
+  return error;
+}
+
+// Area-weighted RMS of the face errors, per chart.
+std::vector<double> chart_rms_errors(const FaceGeometry& geometry, const std::vector<int>& label,
+                                     const std::vector<double>& error,
+                                     const std::vector<ChartFit>& fits) {
+  std::vector<double> rms(fits.size(), 0.0);
+  for (int f = 0; f < static_cast<int>(label.size()); ++f)
+    rms[label[f]] += geometry.area[f] * error[f] * error[f];
+  for (size_t c = 0; c < fits.size(); ++c) rms[c] = std::sqrt(rms[c] / fits[c].area);
+  return rms;
+}
+
+// Lloyd rounds: grow, refit each chart's cone, move each seed to the face that
+// best fits its cone near the chart's centroid; stop when the labels repeat
+// (up to kSettledFraction of the faces: boundaries can flicker by a face).
+// `label` holds the previous labelling (or is empty) and is updated in place.
+void lloyd(const FaceGeometry& geometry, const FaceAdjacency& adjacency, const GrowthScale& scale,
+           int max_rounds, std::vector<Chart>& charts, std::vector<int>& label) {
+  const int chart_count = static_cast<int>(charts.size());
+  const double inverse_tolerance = 1.0 / scale.max_fit_error;
+  for (int round = 0; round < max_rounds; ++round) {
+    std::vector<int> grown = grow_charts(geometry, adjacency, charts, scale);
+    const std::vector<ChartFit> fits = fit_charts(geometry, grown, chart_count);
+    std::vector<double> best_score(chart_count, HUGE_VAL);
+    for (int f = 0; f < static_cast<int>(grown.size()); ++f) {
+      const ChartFit& fit = fits[grown[f]];
+      const double error = angle_to_cone(fit.cone, geometry.normal[f]) * inverse_tolerance;
+      const double distance2 = (geometry.centroid[f] - fit.centroid).squaredNorm();
+      const double score = error * error + kCompactnessWeight * M_PI * distance2 / fit.area;
+      if (score < best_score[grown[f]]) {
+        best_score[grown[f]] = score;
+        charts[grown[f]].seed = f;
+      }
+    }
+    for (int c = 0; c < chart_count; ++c) {
+      charts[c].cone = fits[c].cone;
+      charts[c].area = fits[c].area;
+    }
+    size_t changed = grown.size();
+    if (label.size() == grown.size()) {
+      changed = 0;
+      for (size_t f = 0; f < grown.size(); ++f) changed += grown[f] != label[f];
+    }
+    const bool settled = changed <= kSettledFraction * static_cast<double>(grown.size());
+    label = std::move(grown);
+    if (settled) break;
+  }
+}
+
+// The face beside the chart's sharpest interior crease edge, on the side away
+// from the seed, or -1 when the chart holds no edge sharper than kCreaseAngle.
+std::vector<int> crease_faces(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
+                              const std::vector<int>& label, const std::vector<Chart>& charts) {
+  std::vector<int> face(charts.size(), -1);
+  std::vector<double> sharpest(charts.size(), kCreaseAngle);
+  for (int f = 0; f < static_cast<int>(label.size()); ++f) {
+    for (int i = 0; i < 3; ++i) {
+      const int g = adjacency.neighbour[f][i];
+      if (g < f || label[g] != label[f] || adjacency.jump[f][i] <= sharpest[label[f]]) continue;
+      const int c = label[f];
+      sharpest[c] = adjacency.jump[f][i];
+      const Eigen::Vector3d seed = geometry.centroid[charts[c].seed];
+      face[c] = (geometry.centroid[f] - seed).squaredNorm() >=
+                        (geometry.centroid[g] - seed).squaredNorm()
+                    ? f
+                    : g;
+    }
+  }
+  return face;
+}
+
+// Adds a seed to every chart that fits worse than max_fit_error (at its worst
+// face) or folds over a crease (beside the crease), unless the chart is too
+// small to split. With `forced` > 0, instead adds that many seeds at the worst
+// faces of the worst charts, whatever their error. Returns the number added.
+int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
+                    const GrowthScale& scale, int max_charts, int forced,
+                    std::vector<Chart>& charts, const std::vector<int>& label) {
+  const int chart_count = static_cast<int>(charts.size());
+  const std::vector<ChartFit> fits = fit_charts(geometry, label, chart_count);
+  const std::vector<double> error = face_fit_errors(geometry, label, fits);
+  const std::vector<double> rms = chart_rms_errors(geometry, label, error, fits);
+  std::vector<int> worst(chart_count, -1);
+  for (int f = 0; f < static_cast<int>(label.size()); ++f) {
+    const int c = label[f];
+    if (f != charts[c].seed && (worst[c] < 0 || error[f] > error[worst[c]])) worst[c] = f;
+  }
+
+  std::vector<std::pair<int, int>> new_seeds;  // chart split, seed face
+  if (forced > 0) {
+    std::vector<int> order(chart_count);
+    for (int c = 0; c < chart_count; ++c) order[c] = c;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return rms[a] > rms[b]; });
+    for (const int c : order) {
+      if (static_cast<int>(new_seeds.size()) == forced) break;
+      if (worst[c] >= 0) new_seeds.emplace_back(c, worst[c]);
+    }
+  } else {
+    const std::vector<int> crease = crease_faces(geometry, adjacency, label, charts);
+    const double min_area = kMinPatchAreaFraction * geometry.total_area;
+    const int min_faces = min_patch_faces(static_cast<int>(label.size()));
+    for (int c = 0; c < chart_count; ++c) {
+      if (chart_count + static_cast<int>(new_seeds.size()) >= max_charts) break;
+      if (fits[c].face_count < 2 * min_faces || fits[c].area < 2.0 * min_area) continue;
+      if (rms[c] > scale.max_fit_error && worst[c] >= 0) {
+        new_seeds.emplace_back(c, worst[c]);
+      } else if (crease[c] >= 0 && crease[c] != charts[c].seed) {
+        new_seeds.emplace_back(c, crease[c]);
+      }
+    }
+  }
+  for (const auto& [c, seed] : new_seeds) {
+    charts[c].area *= 0.5;
+    charts.push_back(chart_at(geometry, seed, charts[c].area));
+  }
+  return static_cast<int>(new_seeds.size());
+}
+
+// Greedy merging of adjacent charts. Merge cost of charts a and b, unitless:
+//   (increase of the cone-fit residual) / ((area(a) + area(b)) max_fit_error^2)
+// + (mean normal jump along their shared border / kCreaseAngle)^2
+// so that charts whose union still fits one cone and that meet smoothly go
+// first. `should_merge(count, areas, faces)` picks the next chart to absorb
+// into its cheapest neighbour, or returns -1 to stop (it may return any chart
+// with a neighbour; -2 asks for the globally cheapest pair instead).
+// Returns labels with ids 0 .. k-1.
+class ChartMerger {
+ public:
+  ChartMerger(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
+              const std::vector<int>& label, int chart_count, const GrowthScale& scale)
+      : label_(label), scale_(scale), parent_(chart_count), alive_(chart_count, true),
+        moments_(chart_count), face_count_(chart_count, 0), borders_(chart_count),
+        count_(chart_count) {
+    for (int c = 0; c < chart_count; ++c) parent_[c] = c;
+    for (int f = 0; f < static_cast<int>(label.size()); ++f) {
+      moments_[label[f]].add(geometry.normal[f], geometry.area[f]);
+      ++face_count_[label[f]];
+      for (int i = 0; i < 3; ++i) {
+        const int g = adjacency.neighbour[f][i];
+        if (g < 0 || label[g] == label[f]) continue;
+        Border& border = borders_[label[f]][label[g]];
+        border.length += adjacency.length[f][i];
+        border.jump_length += adjacency.length[f][i] * adjacency.jump[f][i];
+      }
+    }
+    residual_.resize(chart_count);
+    for (int c = 0; c < chart_count; ++c) residual_[c] = fit_cone(moments_[c]).residual;
+  }
+
+  int count() const { return count_; }
+  bool alive(int c) const { return alive_[c]; }
+  double area(int c) const { return moments_[c].weight; }
+  int face_count(int c) const { return face_count_[c]; }
+  bool has_neighbour(int c) const { return !borders_[c].empty(); }
+
+  double merge_cost(int a, int b) const {
+    NormalMoments merged = moments_[a];
+    merged += moments_[b];
+    const double increase = fit_cone(merged).residual - residual_[a] - residual_[b];
+    const Border& border = borders_[a].at(b);
+    const double jump = border.jump_length / border.length / kCreaseAngle;
+    return std::max(increase, 0.0) /
+               (merged.weight * scale_.max_fit_error * scale_.max_fit_error) +
+           jump * jump;
+  }
+
+  // The neighbour of c that is cheapest to merge with (ties: lowest id).
+  int cheapest_neighbour(int c) const {
+    int best = -1;
+    double best_cost = HUGE_VAL;
+    for (const auto& [d, border] : borders_[c]) {
+      const double cost = merge_cost(c, d);
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = d;
+      }
+    }
+    return best;
+  }
+
+  // Absorbs chart b into chart a.
+  void merge(int a, int b) {
+    moments_[a] += moments_[b];
+    residual_[a] = fit_cone(moments_[a]).residual;
+    face_count_[a] += face_count_[b];
+    for (const auto& [d, border] : borders_[b]) {
+      if (d == a) continue;
+      Border& into = borders_[a][d];
+      into.length += border.length;
+      into.jump_length += border.jump_length;
+      Border& back = borders_[d][a];
+      back.length += border.length;
+      back.jump_length += border.jump_length;
+      borders_[d].erase(b);
+    }
+    borders_[a].erase(b);
+    borders_[b].clear();
+    alive_[b] = false;
+    parent_[b] = a;
+    --count_;
+  }
+
+  // The labels after the merges, renumbered 0 .. k-1 in order of first face.
+  std::vector<int> labels() const {
+    std::vector<int> id(parent_.size(), -1);
+    std::vector<int> out(label_.size());
+    int next = 0;
+    for (size_t f = 0; f < label_.size(); ++f) {
+      int c = label_[f];
+      while (parent_[c] != c) c = parent_[c];
+      if (id[c] < 0) id[c] = next++;
+      out[f] = id[c];
+    }
+    return out;
+  }
+
+ private:
+  struct Border {
+    double length = 0.0;
+    double jump_length = 0.0;  // sum of length * normal jump over the border edges
+  };
+
+  std::vector<int> label_;
+  GrowthScale scale_;
+  std::vector<int> parent_;
+  std::vector<bool> alive_;
+  std::vector<NormalMoments> moments_;
+  std::vector<double> residual_;
+  std::vector<int> face_count_;
+  std::vector<std::map<int, Border>> borders_;  // ordered: deterministic iteration
+  int count_;
+};
+
+// Merges every chart smaller than kMinPatchFaces faces (scaled down on tiny
+// meshes) or kMinPatchAreaFraction of the area into its cheapest neighbour,
+// smallest first.
+std::vector<int> merge_small_charts(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
+                                    const std::vector<int>& label, int chart_count,
+                                    const GrowthScale& scale) {
+  ChartMerger merger(geometry, adjacency, label, chart_count, scale);
+  const int min_faces = min_patch_faces(static_cast<int>(label.size()));
+  const double min_area = kMinPatchAreaFraction * geometry.total_area;
+  for (;;) {
+    int smallest = -1;
+    for (int c = 0; c < chart_count; ++c) {
+      if (!merger.alive(c) || !merger.has_neighbour(c)) continue;
+      if (merger.face_count(c) >= min_faces && merger.area(c) >= min_area) continue;
+      if (smallest < 0 || merger.area(c) < merger.area(smallest)) smallest = c;
+    }
+    if (smallest < 0) break;
+    merger.merge(merger.cheapest_neighbour(smallest), smallest);
+  }
+  return merger.labels();
+}
+
+// Merges the cheapest adjacent pairs until `target` charts remain (or no two
+// charts touch: separate components never merge).
+std::vector<int> merge_to_count(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
+                                const std::vector<int>& label, int chart_count, int target,
+                                const GrowthScale& scale) {
+  ChartMerger merger(geometry, adjacency, label, chart_count, scale);
+  while (merger.count() > target) {
+    int best_a = -1;
+    int best_b = -1;
+    double best_cost = HUGE_VAL;
+    for (int a = 0; a < chart_count; ++a) {
+      if (!merger.alive(a)) continue;
+      const int b = merger.cheapest_neighbour(a);
+      if (b < 0) continue;
+      const double cost = merger.merge_cost(a, b);
+      if (cost < best_cost) {
+        best_cost = cost;
+        best_a = a;
+        best_b = b;
+      }
+    }
+    if (best_a < 0) break;
+    // Keep the larger chart's id so that its seed and cone stay meaningful.
+    if (merger.area(best_b) > merger.area(best_a)) std::swap(best_a, best_b);
+    merger.merge(best_a, best_b);
+  }
+  return merger.labels();
+}
+
+// Charts (seed, cone, area) of a labelling with ids 0 .. k-1, seeded at the
+// face nearest each chart's centroid among its best-fitting faces.
+std::vector<Chart> charts_of(const FaceGeometry& geometry, const GrowthScale& scale,
+                             const std::vector<int>& label) {
+  const int chart_count = *std::max_element(label.begin(), label.end()) + 1;
+  const std::vector<ChartFit> fits = fit_charts(geometry, label, chart_count);
+  std::vector<Chart> charts(chart_count);
+  std::vector<double> best_score(chart_count, HUGE_VAL);
+  const double inverse_tolerance = 1.0 / scale.max_fit_error;
+  for (int f = 0; f < static_cast<int>(label.size()); ++f) {
+    const ChartFit& fit = fits[label[f]];
+    const double error = angle_to_cone(fit.cone, geometry.normal[f]) * inverse_tolerance;
+    const double distance2 = (geometry.centroid[f] - fit.centroid).squaredNorm();
+    const double score = error * error + kCompactnessWeight * M_PI * distance2 / fit.area;
+    if (score < best_score[label[f]]) {
+      best_score[label[f]] = score;
+      charts[label[f]].seed = f;
+    }
+  }
+  for (int c = 0; c < chart_count; ++c) {
+    charts[c].cone = fits[c].cone;
+    charts[c].area = fits[c].area;
+  }
+  return charts;
+}
+
+}  // namespace
+
+std::vector<int> segment_mesh(const Positions& positions, const Triangles& triangles,
+                              const SegmentationOptions& options, const Progress& progress) {
+  if (triangles.rows() == 0 || positions.rows() == 0)
+    throw EngineError(Status::empty_input, "segmentation: the mesh has no triangles");
+  if (options.max_fit_error < 0.0 || !std::isfinite(options.max_fit_error))
+    throw EngineError(Status::invalid_argument,
+                      "segmentation: max_fit_error must be finite and >= 0");
+  if (options.target_patches < 0)
+    throw EngineError(Status::invalid_argument, "segmentation: target_patches must be >= 0");
+
+  progress.report(0.0, kStage);
+  GrowthScale scale;
+  if (options.max_fit_error > 0.0) scale.max_fit_error = options.max_fit_error;
+  const FaceGeometry geometry = face_geometry(positions, triangles);
+  const FaceAdjacency adjacency = face_adjacency(positions, triangles, geometry);
+  const auto [component, component_count] = face_components(adjacency);
+  const int face_count = static_cast<int>(triangles.rows());
+
+  // One seed per component, at its first face.
+  std::vector<Chart> charts;
+  for (int f = 0, next = 0; f < face_count && next < component_count; ++f) {
+    if (component[f] == next) {
+      charts.push_back(chart_at(geometry, f, geometry.total_area / component_count));
+      ++next;
+    }
+  }
+  std::vector<int> label;
+  lloyd(geometry, adjacency, scale, kSplitRounds, charts, label);
+  progress.report(0.05, kStage);
+
+  // Split until every chart fits (or is too small to split).
+  const int max_charts =
+      std::max(component_count, static_cast<int>(2.0 / kMinPatchAreaFraction));
+  for (int iteration = 0; iteration < kMaxSplitIterations; ++iteration) {
+    if (add_split_seeds(geometry, adjacency, scale, max_charts, 0, charts, label) == 0) break;
+    lloyd(geometry, adjacency, scale, kSplitRounds, charts, label);
+    progress.report(0.05 + 0.6 * (iteration + 1) / kMaxSplitIterations, kStage);
+  }
+
+  if (options.target_patches > 0) {
+    const int target = std::min(options.target_patches, face_count);
+    while (static_cast<int>(charts.size()) < target) {
+      const int missing = target - static_cast<int>(charts.size());
+      if (add_split_seeds(geometry, adjacency, scale, face_count, missing, charts, label) == 0)
+        break;
+      lloyd(geometry, adjacency, scale, kSplitRounds, charts, label);
+      progress.report(0.7, kStage);
+    }
+    label = merge_to_count(geometry, adjacency, label, static_cast<int>(charts.size()), target,
+                           scale);
+    charts = charts_of(geometry, scale, label);
+    lloyd(geometry, adjacency, scale, kSettleRounds, charts, label);
+    progress.report(1.0, kStage);
+    return label;
+  }
+
+  label = merge_small_charts(geometry, adjacency, label, static_cast<int>(charts.size()), scale);
+  progress.report(0.75, kStage);
+  charts = charts_of(geometry, scale, label);
+  lloyd(geometry, adjacency, scale, kSettleRounds, charts, label);
+  progress.report(0.95, kStage);
+  label = merge_small_charts(geometry, adjacency, label, static_cast<int>(charts.size()), scale);
+  progress.report(1.0, kStage);
+  return label;
+}
+
+}  // namespace developable

@@ -1,0 +1,75 @@
+// Stage 5 of the pipeline: the skeleton points of the effect field (paper,
+// Sec. III: "based on local maximum and image gradient direction, those
+// skeleton points ... can be found"), ordered into curves.
+//
+// The paper neither defines "local maximum" on a 2-D field nor says how the
+// unordered points become the ordered input of a B-spline fit. Here:
+//  * A skeleton point is a ridge point: the field is a local maximum ACROSS
+//    the ridge, the across direction being the Hessian eigenvector of the most
+//    negative eigenvalue; the position is refined inside the cell by a
+//    parabola through the cell and its two neighbours along that direction.
+//  * An isotropic bump (a planar patch's Gauss image) has every point on it a
+//    maximum across its level line. Such points are rejected by asking the
+//    field to be flat along the ridge compared with how sharply it falls
+//    across: |grad f| <= |lambda_min| * R.
+//  * Ordering: a Euclidean minimum spanning tree over the ridge points (on
+//    their k-nearest-neighbour graph) and its longest path (tree diameter).
+//    When the two ends of that path are close compared with its length, the
+//    Gauss image wraps around (cylinder, cone) and the curve is closed.
+//    Branches off the path and separate components that are long enough
+//    compared with the longest path become curves of their own.
+#pragma once
+
+#include "effect_field.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace developable {
+
+// One ordered skeleton curve in the Gauss chart.
+struct SkeletonCurve {
+  std::vector<Eigen::Vector2d> points;  // chart units, in order along the curve
+  bool closed = false;                  // the last point connects back to the first
+};
+
+struct SkeletonOptions {
+  // A ridge point needs field >= this fraction of the field's maximum.
+  double min_field_fraction = 0.05;
+  // Branches and separate components shorter than this fraction of the
+  // longest path are dropped as noise.
+  double min_branch_fraction = 0.25;
+  // Planar test: the Gauss image counts as "about a point" when the ridge's
+  // bounding-box diagonal is below this multiple of the points' RMS spread
+  // about their weighted centroid (a line of length L has diagonal/spread
+  // 3.5, a full circle 2.8, an isotropic blob ~1 or less).
+  double min_extent_over_spread = 1.5;
+  // Planar test: ... or when the points' scatter across the ridge (the
+  // field's thickness) exceeds this fraction of their spread. A 2-D noise
+  // blob gives ~0.65, a curve of length L and scatter s gives 3.5 s / L, so
+  // an arc shorter than ~7 scatter widths counts as a point.
+  double max_thickness_over_spread = 0.5;
+};
+
+// Unordered ridge points of the field, chart units, in cell order (so
+// deterministic). Empty when the field has no ridge (e.g. a single bump).
+//   min_field_fraction in [0, 1).
+std::vector<Eigen::Vector2d> find_ridge_points(const EffectField& field, double min_field_fraction);
+
+// Orders ridge points into curves (see the file comment).
+//   points: chart points; link_distance: longest gap bridged between two
+//   neighbouring points (chart units, > 0); min_branch_fraction as above.
+// Returns curves longest first; each has >= 2 points. Empty if points has
+// fewer than 2 points or nothing is long enough.
+std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>& points,
+                                              double link_distance, double min_branch_fraction);
+
+// The whole stage: ridge points, ordering, and the planar test.
+// Returns an empty vector when the Gauss image is about a point (planar
+// patch, fewer than 4 points, or a ridge too short against the spread); the
+// caller then uses the mean normal. Link distance: max(2.5 cells, R / 2).
+// Throws EngineError(invalid_argument) on options out of range.
+std::vector<SkeletonCurve> extract_skeleton(const EffectField& field, const SkeletonOptions& options);
+
+}  // namespace developable

@@ -22,13 +22,13 @@ BOUNDARY_COLOUR = (0.55, 0.55, 0.55, 1.0)
 
 
 def colour_scale(defect_before, defect_after, interior):
-    """One scale for both colour maps: the 98th percentile of |defect| over the
+    """One scale for both colour maps: the 95th percentile of |defect| over the
     interior vertices of both states, so the maps compare directly."""
     d = np.concatenate([np.abs(defect_before[interior]), np.abs(defect_after[interior])])
     d = d[np.isfinite(d)]
     if d.size == 0:
         return 1e-6
-    scale = float(np.percentile(d, 98.0))
+    scale = float(np.percentile(d, 95.0))
     if not scale > 0.0:
         scale = float(d.max()) if d.max() > 0 else 1e-6
     return scale

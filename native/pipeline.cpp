@@ -14,6 +14,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// RMS angle (rad) between the normals and one set of ideal curves above which
+// automatic segmentation splits the mesh into patches.
+constexpr double kAutoSegmentationError = 0.12;
+
 double elapsed_ms(Clock::time_point since) {
   return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
 }
@@ -148,27 +152,20 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   const Eigen::VectorXd areas_before = face_areas(positions, triangles);
   result.patch_ids.assign(static_cast<size_t>(triangles.rows()), 0);
   int patch_count = 1;
-  if (options.segmentation != 0) {
-    std::vector<int> labels = segment_mesh(positions, triangles, options.segmentation_options, progress);
-    int count = 0;
-    for (int label : labels) count = std::max(count, label + 1);
-    bool use = options.segmentation == 1;
-    if (options.segmentation == -1 && count > 1) {
-      // Automatic: segment only when one ideal curve cannot carry the whole
-      // Gauss image, judged by how far the normals are from their targets.
-      std::vector<PatchCurve> one;
-      const Normals single = patch_target_normals(normals_before, areas_before, result.patch_ids, 1,
-                                                  options.curve_options, one);
-      std::vector<PatchCurve> many;
-      const Normals split = patch_target_normals(normals_before, areas_before, labels, count,
-                                                 options.curve_options, many);
-      use = curve_fit_error(normals_before, split, areas_before) <
-            0.5 * curve_fit_error(normals_before, single, areas_before);
-    }
-    if (use) {
-      result.patch_ids = std::move(labels);
-      patch_count = count;
-    }
+  // Automatic segmentation: only when one set of ideal curves cannot carry
+  // the whole Gauss image, judged by the RMS angle between the normals and
+  // their single-patch targets (docs/segmentation.md has the measurements).
+  bool segment = options.segmentation == 1;
+  if (options.segmentation == -1) {
+    std::vector<PatchCurve> single_curves;
+    const Normals single = patch_target_normals(normals_before, areas_before, result.patch_ids, 1,
+                                                options.curve_options, single_curves);
+    segment = curve_fit_error(normals_before, single, areas_before) > kAutoSegmentationError;
+  }
+  if (segment) {
+    result.patch_ids =
+        segment_mesh(positions, triangles, options.segmentation_options, progress.sub(0.02, 0.05));
+    for (int label : result.patch_ids) patch_count = std::max(patch_count, label + 1);
   }
   stats.patches = patch_count;
   if (options.seams == Seams::pinned && patch_count > 1) {

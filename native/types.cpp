@@ -23,7 +23,8 @@ const char* status_name(Status status) {
 }
 
 void Progress::report(double fraction, const char* stage) const {
-  if (fn != nullptr && !fn(fraction, stage, user)) {
+  const double clamped = fraction < 0.0 ? 0.0 : (fraction > 1.0 ? 1.0 : fraction);
+  if (fn != nullptr && !fn(from + (to - from) * clamped, stage, user)) {
     throw EngineError(Status::cancelled, std::string("cancelled during ") + stage);
   }
 }

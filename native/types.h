@@ -62,12 +62,22 @@ class EngineError : public std::runtime_error {
 using ProgressFn = bool (*)(double fraction, const char* stage, void* user);
 
 // A progress callback plus its user pointer, passed by value through stages.
+// A stage reports its own fraction in [0, 1]; `from` and `to` map it into the
+// share of the whole run that the caller gave the stage (see sub()).
 struct Progress {
   ProgressFn fn = nullptr;
   void* user = nullptr;
+  double from = 0.0;
+  double to = 1.0;
 
   // Report and throw EngineError(cancelled) when the callback says stop.
   void report(double fraction, const char* stage) const;
+
+  // The same callback for a stage that runs from `begin` to `end` (fractions
+  // of this one's range).
+  Progress sub(double begin, double end) const {
+    return {fn, user, from + (to - from) * begin, from + (to - from) * end};
+  }
 };
 
 }  // namespace developable

@@ -4,9 +4,15 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <limits>
+#include <sstream>
 
 namespace developable_tool {
 namespace {
@@ -94,7 +100,48 @@ class RawImporter : public IO::BaseImporter {
 
 std::string extension(const std::string& path) {
   const size_t dot = path.find_last_of('.');
-  return dot == std::string::npos ? std::string() : path.substr(dot + 1);
+  std::string ext = dot == std::string::npos ? std::string() : path.substr(dot + 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// OBJ is read here rather than by OpenMesh: its reader skips what it cannot
+// parse ("nan" coordinates, faces with repeated or missing vertices) without
+// telling, and the engine must see those to name them. Polygons become fans
+// through the same importer as every other format.
+bool read_obj(const std::string& path, RawImporter& importer, std::string& error) {
+  std::ifstream in(path);
+  std::string line;
+  for (long line_number = 1; std::getline(in, line); ++line_number) {
+    std::istringstream words(line);
+    std::string keyword;
+    if (!(words >> keyword)) continue;
+    if (keyword == "v") {
+      std::string text[3];
+      Vec3d p;
+      for (int a = 0; a < 3; ++a) {
+        if (!(words >> text[a])) {
+          error = path + ":" + std::to_string(line_number) + ": a vertex needs three coordinates";
+          return false;
+        }
+        // strtod reads "nan" and "inf" too, so the engine can name them.
+        p[a] = std::strtod(text[a].c_str(), nullptr);
+      }
+      importer.add_vertex(p);
+    } else if (keyword == "f") {
+      IO::BaseImporter::VHandles polygon;
+      std::string corner;
+      while (words >> corner) {
+        const long index = std::strtol(corner.c_str(), nullptr, 10);
+        // Negative indices count back from the last vertex read so far.
+        const long vertex = index < 0 ? static_cast<long>(importer.n_vertices()) + index : index - 1;
+        polygon.push_back(VertexHandle(static_cast<int>(
+            std::clamp<long>(vertex, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()))));
+      }
+      importer.add_face(polygon);
+    }
+  }
+  return true;
 }
 
 }  // namespace
@@ -104,12 +151,16 @@ bool read_raw_mesh(const std::string& path, RawMesh& mesh, std::string& error) {
     error = "cannot open " + path;
     return false;
   }
-  if (!IO::IOManager().can_read(extension(path))) {
+  const std::string ext = extension(path);
+  if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl") {
     error = "unknown mesh format '." + extension(path) + "' (use .obj, .off, .ply or .stl)";
     return false;
   }
   mesh = RawMesh{};
   RawImporter importer(mesh);
+  if (extension(path) == "obj") return read_obj(path, importer, error);
+  // OpenMesh's log stream announces every file it touches; the tool reports itself.
+  omlog().disable();
   IO::Options options;
   if (!IO::IOManager().read(path, importer, options)) {
     error = "cannot read " + path + " as a mesh";
@@ -120,8 +171,32 @@ bool read_raw_mesh(const std::string& path, RawMesh& mesh, std::string& error) {
 
 bool can_write(const std::string& path) { return IO::IOManager().can_write(extension(path)); }
 
+// OBJ is written here so that coordinates keep all 17 digits; OpenMesh's
+// writers go through single precision.
+bool write_obj(const std::string& path, const std::vector<double>& positions,
+               const std::vector<int32_t>& triangles) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (file == nullptr) return false;
+  bool ok = std::fprintf(file, "# developable: %zu vertices, %zu triangles\n", positions.size() / 3,
+                         triangles.size() / 3) > 0;
+  for (size_t v = 0; ok && v + 2 < positions.size(); v += 3)
+    ok = std::fprintf(file, "v %.17g %.17g %.17g\n", positions[v], positions[v + 1], positions[v + 2]) > 0;
+  for (size_t t = 0; ok && t + 2 < triangles.size(); t += 3)
+    ok = std::fprintf(file, "f %d %d %d\n", triangles[t] + 1, triangles[t + 1] + 1, triangles[t + 2] + 1) > 0;
+  return std::fclose(file) == 0 && ok;
+}
+
 bool write_mesh(const std::string& path, const std::vector<double>& positions,
                 const std::vector<int32_t>& triangles, std::string& error) {
+  if (extension(path) == "obj") {
+    const std::string temporary = path + ".partial";
+    if (!write_obj(temporary, positions, triangles) || std::rename(temporary.c_str(), path.c_str()) != 0) {
+      std::remove(temporary.c_str());
+      error = "cannot write " + path;
+      return false;
+    }
+    return true;
+  }
   PolyMesh mesh;
   std::vector<PolyMesh::VertexHandle> handles;
   handles.reserve(positions.size() / 3);
@@ -139,6 +214,7 @@ bool write_mesh(const std::string& path, const std::vector<double>& positions,
   // The extension decides the format: keep it on the temporary name.
   const std::string temporary = path + ".partial." + extension(path);
   const IO::Options options;
+  omlog().disable();
   if (!IO::write_mesh(mesh, temporary, options, 17)) {
     std::remove(temporary.c_str());
     error = "cannot write " + path;

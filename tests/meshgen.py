@@ -1,0 +1,95 @@
+"""Generated test meshes: exact developable surfaces, their noisy versions and
+the paper's curved cone. Each returns (positions float64 (n, 3), triangles
+int32 (m, 3)); grids are triangulated with alternating diagonals so that no
+direction is favoured."""
+import numpy as np
+
+
+def grid_triangles(rows, cols, wrap=False):
+    """Triangles of a rows x cols vertex grid (row-major); wrap joins the last
+    column to the first (a closed band)."""
+    tris = []
+    col_count = cols if wrap else cols - 1
+    for i in range(rows - 1):
+        for j in range(col_count):
+            a = i * cols + j
+            b = i * cols + (j + 1) % cols
+            c = (i + 1) * cols + j
+            d = (i + 1) * cols + (j + 1) % cols
+            if (i + j) % 2 == 0:
+                tris += [(a, b, d), (a, d, c)]
+            else:
+                tris += [(a, b, c), (b, d, c)]
+    return np.array(tris, dtype=np.int32)
+
+
+def plane(rows=12, cols=15, size=2.0):
+    u, v = np.meshgrid(np.linspace(0, size, cols), np.linspace(0, size * 0.8, rows))
+    pos = np.stack([u.ravel(), v.ravel(), np.zeros(u.size)], axis=1)
+    return pos, grid_triangles(rows, cols)
+
+
+def cylinder(rows=10, cols=40, radius=1.0, height=2.0, angle=2 * np.pi):
+    """Open cylinder (a closed band when angle is 2 pi) along z."""
+    closed = np.isclose(angle, 2 * np.pi)
+    t = np.linspace(0, angle, cols, endpoint=not closed)
+    z = np.linspace(0, height, rows)
+    tt, zz = np.meshgrid(t, z)
+    pos = np.stack([radius * np.cos(tt).ravel(), radius * np.sin(tt).ravel(), zz.ravel()], axis=1)
+    return pos, grid_triangles(rows, cols, wrap=closed)
+
+
+def cone(rows=10, cols=48, r0=1.5, r1=0.6, height=1.5, bulge=0.0):
+    """A cone frustum band along z from radius r0 to r1; bulge pushes the
+    middle rows outward by bulge * sin(pi t), bending the rulings (the paper's
+    curved cone)."""
+    t = np.linspace(0, 2 * np.pi, cols, endpoint=False)
+    s = np.linspace(0, 1, rows)
+    tt, ss = np.meshgrid(t, s)
+    r = r0 + (r1 - r0) * ss + bulge * np.sin(np.pi * ss)
+    pos = np.stack([r.ravel() * np.cos(tt).ravel(), r.ravel() * np.sin(tt).ravel(),
+                    height * ss.ravel()], axis=1)
+    return pos, grid_triangles(rows, cols, wrap=True)
+
+
+def curved_cone():
+    """The paper's Fig. 3 / Table I model: a closed band of 80 x 9 vertices
+    (720 v, 1280 f), slightly bulged; its mean |defect| is about the paper's
+    2.5e-3 and AE about its 0.117."""
+    return cone(rows=9, cols=80, r0=1.5, r1=0.75, height=0.8, bulge=0.035)
+
+
+def add_noise(positions, amplitude, seed=1):
+    """Uniform random displacement of every vertex, in [-amplitude, amplitude]^3."""
+    rng = np.random.default_rng(seed)
+    return positions + rng.uniform(-amplitude, amplitude, positions.shape)
+
+
+def noisy_cylinder_patch(rows=16, cols=24, radius=1.0, noise=0.01, seed=1):
+    """A 120-degree cylinder patch with noise of `noise` x radius."""
+    pos, tris = cylinder(rows=rows, cols=cols, radius=radius, height=1.5, angle=2 * np.pi / 3)
+    return add_noise(pos, noise * radius, seed), tris
+
+
+def write_obj(path, positions, triangles):
+    with open(path, "w") as f:
+        for p in positions:
+            f.write("v %.17g %.17g %.17g\n" % tuple(p))
+        for t in triangles:
+            f.write("f %d %d %d\n" % tuple(np.asarray(t) + 1))
+
+
+def read_obj(path):
+    pos, tris = [], []
+    with open(path) as f:
+        for line in f:
+            w = line.split()
+            if not w:
+                continue
+            if w[0] == "v":
+                pos.append([float(x) for x in w[1:4]])
+            elif w[0] == "f":
+                idx = [int(x.split("/")[0]) - 1 for x in w[1:]]
+                for k in range(1, len(idx) - 1):
+                    tris.append([idx[0], idx[k], idx[k + 1]])
+    return np.array(pos, dtype=np.float64), np.array(tris, dtype=np.int32)

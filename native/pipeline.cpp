@@ -70,6 +70,7 @@ void check_options(const PipelineOptions& o) {
   require(std::isfinite(o.tolerance), "tolerance must be a finite number (<= 0 for no limit)");
   require(o.max_iterations >= 1 && o.max_iterations <= 100000,
           "max_iterations must be between 1 and 100000");
+  require(o.refit_interval >= 1, "refit_interval must be at least 1");
   require(std::isfinite(o.stop_relative_change) && o.stop_relative_change >= 0.0,
           "stop_relative_change must be a non-negative number");
   require(std::isfinite(o.developable_threshold) && o.developable_threshold >= 0.0,
@@ -85,28 +86,54 @@ void check_options(const PipelineOptions& o) {
           "grid_resolution must be between 16 and 2048");
 }
 
-Normals patch_target_normals(const Normals& normals, const Eigen::VectorXd& areas,
-                             const std::vector<int>& patch_ids, int patch_count,
-                             const IdealCurveOptions& options, std::vector<PatchCurve>& curves) {
+namespace {
+
+std::vector<std::vector<Eigen::Index>> faces_of_patches(const std::vector<int>& patch_ids,
+                                                        int patch_count) {
   std::vector<std::vector<Eigen::Index>> faces(static_cast<size_t>(patch_count));
-  for (Eigen::Index f = 0; f < normals.rows(); ++f)
-    faces[static_cast<size_t>(patch_ids[static_cast<size_t>(f)])].push_back(f);
-  Normals targets(normals.rows(), 3);
-  curves.clear();
+  for (size_t f = 0; f < patch_ids.size(); ++f)
+    faces[static_cast<size_t>(patch_ids[f])].push_back(static_cast<Eigen::Index>(f));
+  return faces;
+}
+
+Normals gather_rows(const Normals& rows, const std::vector<Eigen::Index>& members) {
+  Normals out(static_cast<Eigen::Index>(members.size()), 3);
+  for (size_t i = 0; i < members.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = rows.row(members[i]);
+  return out;
+}
+
+}  // namespace
+
+std::vector<PatchCurve> fit_patch_curves(const Normals& normals, const Eigen::VectorXd& areas,
+                                         const std::vector<int>& patch_ids, int patch_count,
+                                         const IdealCurveOptions& options) {
+  std::vector<PatchCurve> curves;
+  const auto faces = faces_of_patches(patch_ids, patch_count);
   for (int patch = 0; patch < patch_count; ++patch) {
     const auto& members = faces[static_cast<size_t>(patch)];
     if (members.empty()) continue;
-    Normals patch_normals(static_cast<Eigen::Index>(members.size()), 3);
     Eigen::VectorXd patch_areas(static_cast<Eigen::Index>(members.size()));
-    for (size_t i = 0; i < members.size(); ++i) {
-      patch_normals.row(static_cast<Eigen::Index>(i)) = normals.row(members[i]);
+    for (size_t i = 0; i < members.size(); ++i)
       patch_areas[static_cast<Eigen::Index>(i)] = areas[members[i]];
-    }
-    const std::vector<SphereCurve> fitted = fit_ideal_curves(patch_normals, patch_areas, options);
-    const Normals patch_targets = nearest_on_curves(patch_normals, fitted);
+    for (auto& curve : fit_ideal_curves(gather_rows(normals, members), patch_areas, options))
+      curves.push_back({patch, std::move(curve)});
+  }
+  return curves;
+}
+
+Normals patch_target_normals(const Normals& normals, const std::vector<int>& patch_ids,
+                             int patch_count, const std::vector<PatchCurve>& curves) {
+  const auto faces = faces_of_patches(patch_ids, patch_count);
+  std::vector<std::vector<SphereCurve>> by_patch(static_cast<size_t>(patch_count));
+  for (const auto& c : curves) by_patch[static_cast<size_t>(c.patch)].push_back(c.curve);
+  Normals targets(normals.rows(), 3);
+  for (int patch = 0; patch < patch_count; ++patch) {
+    const auto& members = faces[static_cast<size_t>(patch)];
+    if (members.empty()) continue;
+    const Normals patch_targets =
+        nearest_on_curves(gather_rows(normals, members), by_patch[static_cast<size_t>(patch)]);
     for (size_t i = 0; i < members.size(); ++i)
       targets.row(members[i]) = patch_targets.row(static_cast<Eigen::Index>(i));
-    for (const auto& curve : fitted) curves.push_back({patch, curve});
   }
   return targets;
 }
@@ -146,8 +173,8 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = pinned[v] || boundary[v];
   }
 
-  // Patches.
-  progress.report(0.02, "segmentation");
+  // Ideal curves of the whole mesh as one patch, then patches if needed.
+  progress.report(0.02, "ideal curve");
   const Normals normals_before = face_normals(positions, triangles);
   const Eigen::VectorXd areas_before = face_areas(positions, triangles);
   result.patch_ids.assign(static_cast<size_t>(triangles.rows()), 0);
@@ -156,16 +183,23 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   // the whole Gauss image, judged by the RMS angle between the normals and
   // their single-patch targets (docs/segmentation.md has the measurements).
   bool segment = options.segmentation == 1;
-  if (options.segmentation == -1) {
-    std::vector<PatchCurve> single_curves;
-    const Normals single = patch_target_normals(normals_before, areas_before, result.patch_ids, 1,
-                                                options.curve_options, single_curves);
-    segment = curve_fit_error(normals_before, single, areas_before) > kAutoSegmentationError;
+  if (!segment) {
+    result.curves = fit_patch_curves(normals_before, areas_before, result.patch_ids, 1,
+                                     options.curve_options);
+    result.target_normals = patch_target_normals(normals_before, result.patch_ids, 1, result.curves);
+    segment = options.segmentation == -1 &&
+              curve_fit_error(normals_before, result.target_normals, areas_before) >
+                  kAutoSegmentationError;
   }
   if (segment) {
     result.patch_ids =
         segment_mesh(positions, triangles, options.segmentation_options, progress.sub(0.02, 0.05));
     for (int label : result.patch_ids) patch_count = std::max(patch_count, label + 1);
+    progress.report(0.05, "ideal curve");
+    result.curves = fit_patch_curves(normals_before, areas_before, result.patch_ids, patch_count,
+                                     options.curve_options);
+    result.target_normals =
+        patch_target_normals(normals_before, result.patch_ids, patch_count, result.curves);
   }
   stats.patches = patch_count;
   if (options.seams == Seams::pinned && patch_count > 1) {
@@ -173,10 +207,6 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = pinned[v] || border[v];
   }
 
-  // Ideal curves and targets of the input.
-  progress.report(0.05, "ideal curve");
-  result.target_normals = patch_target_normals(normals_before, areas_before, result.patch_ids,
-                                               patch_count, options.curve_options, result.curves);
   result.positions = positions;
   result.defect_after = result.defect_before;
   stats.mean_defect_after = before.mean_abs;
@@ -210,15 +240,16 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report(0.1 + 0.9 * (iteration - 1) / options.max_iterations, "deformation");
     if (mode == Mode::refit && iteration > 1) {
-      std::vector<PatchCurve> curves;
-      Normals targets = patch_target_normals(face_normals(current, triangles),
-                                             face_areas(current, triangles), result.patch_ids,
-                                             patch_count, options.curve_options, curves);
+      // Refitting the curves is the costly part; between refits the normals
+      // are only projected again onto the curves they have.
+      const Normals normals = face_normals(current, triangles);
+      if ((iteration - 1) % options.refit_interval == 0)
+        result.curves = fit_patch_curves(normals, face_areas(current, triangles), result.patch_ids,
+                                         patch_count, options.curve_options);
+      result.target_normals = patch_target_normals(normals, result.patch_ids, patch_count, result.curves);
       const auto refactor_start = Clock::now();
-      deformation.set_targets(targets);
+      deformation.set_targets(result.target_normals);
       if (formulation == Formulation::coupled) stats.time_decompose_ms += elapsed_ms(refactor_start);
-      result.target_normals = std::move(targets);
-      result.curves = std::move(curves);
     }
     current = deformation.step(current);
     if (limit > 0.0) clamp_to_tolerance(current, positions, limit);

@@ -34,6 +34,8 @@ struct PipelineOptions {
   double omega = 5.0;                   // weight of the normal rows, > 0
   double tolerance = 10.0;              // E_allow in multiples of AE; <= 0: no limit
   int max_iterations = 100;             // >= 1
+  int refit_interval = 5;               // refit mode: refit the curves every this many
+                                        // iterations, re-project onto them in between
   Mode mode = Mode::refit;
   Formulation solver = Formulation::decoupled;  // refit mode only; paper mode is coupled
   bool pin_boundary = false;
@@ -88,11 +90,14 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
                             const std::vector<bool>& pinned, const PipelineOptions& options,
                             const Progress& progress);
 
-// Target normals of every face from its own patch's ideal curves.
+// The ideal curves of every patch (stages 3-6 per patch).
 //   normals, areas: per face; patch_ids: per face in 0 .. patch_count-1.
-//   curves: receives each patch's fitted curves.
-Normals patch_target_normals(const Normals& normals, const Eigen::VectorXd& areas,
-                             const std::vector<int>& patch_ids, int patch_count,
-                             const IdealCurveOptions& options, std::vector<PatchCurve>& curves);
+std::vector<PatchCurve> fit_patch_curves(const Normals& normals, const Eigen::VectorXd& areas,
+                                         const std::vector<int>& patch_ids, int patch_count,
+                                         const IdealCurveOptions& options);
+
+// The target normal of every face: its nearest point on its own patch's curves.
+Normals patch_target_normals(const Normals& normals, const std::vector<int>& patch_ids,
+                             int patch_count, const std::vector<PatchCurve>& curves);
 
 }  // namespace developable

@@ -20,6 +20,11 @@ from .properties import (ENGINE_PARAMETERS, PIN_PARAMETERS, engine_property_defi
                          engine_values, pin_property_definitions)
 
 
+# Outcome of the last run in this session ("status": OK/CANCELLED/..., "message"),
+# for scripts that started the modal operator and want to know how it ended.
+LAST_RUN = {}
+
+
 class Job:
     """One engine run on captured buffers; usable synchronously or on a thread."""
 
@@ -150,6 +155,10 @@ The result goes into the shape key "Developable"; the base mesh is not changed""
     # -- finishing ----------------------------------------------------------
     def _finish(self, context, job):
         obj = bpy.data.objects.get(self._obj_name)
+        LAST_RUN.clear()
+        LAST_RUN.update(status="OK" if job.error is None else getattr(job.error, "status_name", "ERROR"),
+                        message="" if job.error is None else _error_text(job.error),
+                        progress_calls=job.progress_calls)
         try:
             if job.error is not None:
                 level = {'WARNING'} if (isinstance(job.error, native.EngineError)

@@ -264,9 +264,14 @@ def main():
     options = {n: getattr(args, n) for n in names if getattr(args, n) is not None}
     if bpy.context.object is not None and bpy.context.object.mode != 'OBJECT':
         bpy.ops.object.mode_set(mode='OBJECT')
-    result = bpy.ops.mesh.make_developable(**options)
+    try:
+        result = bpy.ops.mesh.make_developable(**options)
+        error = ""
+    except RuntimeError as exc:  # the operator's ERROR report (bad mesh, no library)
+        result, error = {'CANCELLED'}, str(exc).strip()
+        print(error)
     summary = {"input": args.input, "output": args.output, "object": ob.name,
-               "operator": sorted(result)}
+               "operator": sorted(result), "error": error}
     if 'FINISHED' not in result:
         print("DEVELOPABLE_RESULT " + json.dumps(summary))
         sys.stdout.flush()

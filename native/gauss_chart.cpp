@@ -102,7 +102,7 @@ Eigen::Vector2d GaussChart::to_chart(const Eigen::Vector3d& n) const {
   // sqrt(2/(1+z)) * (x, y) has |(x, y)| = sqrt((1-z)(1+z)), so its length is
   // sqrt(2(1-z)); written this way nothing divides by 1+z.
   const double radius = std::sqrt(2.0 * (1.0 - z));
-  const double planar = std::hypot(r.x(), r.y());
+  const double planar = std::sqrt(r.x() * r.x() + r.y() * r.y());
   if (planar < 1e-300) return z > 0.0 ? Eigen::Vector2d::Zero() : Eigen::Vector2d(radius, 0.0);
   return Eigen::Vector2d(r.x(), r.y()) * (radius / planar);
 }

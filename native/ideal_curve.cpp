@@ -7,8 +7,10 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
+#include <thread>
 
 namespace developable {
 
@@ -259,8 +261,10 @@ double weighted_quantile(const std::vector<double>& values, const std::vector<do
 // this reaches sub-cell accuracy. Each source is given to its nearest curve
 // if within the effect radius (farther ones are outliers), with the parameter
 // of its projection (Hastie-Stuetzle principal-curve step).
-void refine(std::vector<Spline>& splines, const EffectField& field, int rounds) {
+// Returns, per curve, how many sources the last round gave it.
+std::vector<int> refine(std::vector<Spline>& splines, const EffectField& field, int rounds) {
   const double reach2 = field.effect_radius * field.effect_radius;
+  std::vector<int> support(splines.size(), 0);
   for (int round = 0; round < rounds; ++round) {
     std::vector<Polyline> lines;
     for (const Spline& s : splines) lines.push_back(sample_spline(s, 32 * static_cast<int>(s.ctrl.size())));
@@ -276,6 +280,7 @@ void refine(std::vector<Spline>& splines, const EffectField& field, int rounds) 
       weights[hit.curve].push_back(src.weight);
     }
     for (size_t c = 0; c < splines.size(); ++c) {
+      support[c] = static_cast<int>(data[c].size());
       if (data[c].size() < 4) continue;  // too little to refit: keep the skeleton fit
       Spline& s = splines[c];
       if (!s.closed) {
@@ -294,6 +299,7 @@ void refine(std::vector<Spline>& splines, const EffectField& field, int rounds) 
       s = fit_spline(data[c], params[c], weights[c], static_cast<int>(s.ctrl.size()), s.closed);
     }
   }
+  return support;
 }
 
 SphereCurve single_point(const Eigen::Vector3d& p) {
@@ -370,10 +376,14 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
 
   std::vector<Spline> splines;
   for (const SkeletonCurve& s : skeleton) splines.push_back(fit_skeleton(s, field.effect_radius));
-  refine(splines, field, 4);
+  const std::vector<int> support = refine(splines, field, 4);
 
   std::vector<SphereCurve> curves;
-  for (const Spline& s : splines) {
+  for (size_t k = 0; k < splines.size(); ++k) {
+    // A curve through fewer than 3 occupied cells is a guess, not a fit
+    // (typical of a handful of scattered normals).
+    if (support[k] < 3) continue;
+    const Spline& s = splines[k];
     SphereCurve c;
     c.closed = s.closed;
     const Polyline line = sample_spline(s, options.samples_per_curve);
@@ -381,48 +391,121 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
     for (const auto& p : line.points) c.points.push_back(chart.to_sphere(p));
     curves.push_back(std::move(c));
   }
+  if (curves.empty()) return {single_point(mean)};
   return curves;
 }
 
 // ---------------------------------------------------------------------------
-// nearest_on_curves: segments are great-circle arcs. Runs of segments are
-// bounded by 3-D balls (containing the arcs' bulge), so a query skips every
-// run whose ball is farther (in chord length) than its best hit so far.
+// nearest_on_curves: segments are great-circle arcs, held in a ball tree over
+// runs of consecutive arcs (consecutive samples of a curve are close, so
+// index ranges make tight balls). A query descends nearer child first and
+// skips every ball farther, in chord length, than its best hit so far; it is
+// warm-started with the previous query's arc, since a mesh's faces come in
+// spatially coherent order.
 
 namespace {
 
 struct Arc {
-  Eigen::Vector3d a, b, m;  // ends (unit) and unit normal of their plane (0 for a point)
+  Eigen::Vector3d a, m;   // start (unit), unit normal of the arc's plane (0 for a point)
+  Eigen::Vector3d ua, ub;  // m x a and b x m: q is between the ends iff q.ua >= 0 and q.ub >= 0
+  Eigen::Vector3d b;       // end (unit)
 };
 
-struct ArcRun {
+struct Ball {
   Eigen::Vector3d center;
   double radius;
-  int begin, end;  // arcs begin .. end-1
+  int begin, end;    // arcs begin .. end-1
+  int left, right;   // children, -1 for a leaf
 };
 
-// Best point of one arc for a unit query: the foot on the great circle if it
-// falls between the ends, else the nearer end. Score: cosine of the angle.
-inline void visit(const Arc& arc, const Eigen::Vector3d& q, double& best_cos, Eigen::Vector3d& best) {
-  const double ca = q.dot(arc.a);
-  if (ca > best_cos) {
-    best_cos = ca;
-    best = arc.a;
+// Cosine of the angle from q to its nearest point of the arc, and that point.
+inline void visit(const Arc& arc, const Eigen::Vector3d& q, double& best_cos, int& best_arc, int index) {
+  double c;
+  if (arc.m.squaredNorm() > 0.0 && q.dot(arc.ua) >= 0.0 && q.dot(arc.ub) >= 0.0) {
+    const double h = q.dot(arc.m);
+    c = std::sqrt(std::max(0.0, 1.0 - h * h));  // |q - (q.m) m|: the foot is inside the arc
+  } else {
+    c = std::max(q.dot(arc.a), q.dot(arc.b));
   }
-  if (arc.m.squaredNorm() == 0.0) return;
-  const double cb = q.dot(arc.b);
-  if (cb > best_cos) {
-    best_cos = cb;
-    best = arc.b;
-  }
-  const double h = q.dot(arc.m);
-  const Eigen::Vector3d foot = q - h * arc.m;  // |foot| = cos(angle to the great circle)
-  const double c = foot.norm();
-  if (c <= best_cos || c <= 0.0) return;
-  // Between the ends: a x foot and foot x b both along m.
-  if (arc.a.cross(foot).dot(arc.m) >= 0.0 && foot.cross(arc.b).dot(arc.m) >= 0.0) {
+  if (c > best_cos) {
     best_cos = c;
-    best = foot / c;
+    best_arc = index;
+  }
+}
+
+Eigen::Vector3d closest_point(const Arc& arc, const Eigen::Vector3d& q) {
+  if (arc.m.squaredNorm() > 0.0 && q.dot(arc.ua) >= 0.0 && q.dot(arc.ub) >= 0.0) {
+    const Eigen::Vector3d foot = q - q.dot(arc.m) * arc.m;
+    const double len = foot.norm();
+    if (len > 1e-300) return foot / len;
+  }
+  return q.dot(arc.a) >= q.dot(arc.b) ? arc.a : arc.b;
+}
+
+int build_balls(const std::vector<Arc>& arcs, int begin, int end, std::vector<Ball>& balls) {
+  Ball ball{Eigen::Vector3d::Zero(), 0.0, begin, end, -1, -1};
+  Eigen::Vector3d lo = arcs[begin].a, hi = lo;
+  double bulge = 0.0;
+  for (int s = begin; s < end; ++s) {
+    lo = lo.cwiseMin(arcs[s].a).cwiseMin(arcs[s].b);
+    hi = hi.cwiseMax(arcs[s].a).cwiseMax(arcs[s].b);
+    // An arc leaves its chord by at most 1 - cos(half its angle).
+    bulge = std::max(bulge, 1.0 - std::sqrt(std::max(0.0, 0.5 * (1.0 + arcs[s].a.dot(arcs[s].b)))));
+  }
+  ball.center = 0.5 * (lo + hi);
+  for (int s = begin; s < end; ++s) {
+    ball.radius = std::max({ball.radius, (arcs[s].a - ball.center).norm(), (arcs[s].b - ball.center).norm()});
+  }
+  ball.radius += bulge + 1e-12;
+  const int index = static_cast<int>(balls.size());
+  balls.push_back(ball);
+  if (end - begin > 4) {
+    const int mid = begin + (end - begin) / 2;
+    const int left = build_balls(arcs, begin, mid, balls);
+    const int right = build_balls(arcs, mid, end, balls);
+    balls[index].left = left;
+    balls[index].right = right;
+  }
+  return index;
+}
+
+// Targets of rows begin .. end-1 (unit queries already checked finite).
+void nearest_rows(const Normals& normals, const std::vector<Arc>& arcs, const std::vector<Ball>& balls,
+                  Eigen::Index begin, Eigen::Index end, Normals& targets) {
+  std::vector<int> stack;
+  int warm = 0;
+  for (Eigen::Index i = begin; i < end; ++i) {
+    const Eigen::Vector3d n = normals.row(i).transpose();
+    const double len = n.norm();
+    if (!(len > 0.0)) {
+      targets.row(i) = arcs.front().a.transpose();
+      continue;
+    }
+    const Eigen::Vector3d q = n / len;
+    double best_cos = -2.0;
+    int best_arc = -1;
+    visit(arcs[warm], q, best_cos, best_arc, warm);
+    stack.assign(1, 0);
+    while (!stack.empty()) {
+      const Ball& ball = balls[stack.back()];
+      stack.pop_back();
+      const double d2 = (q - ball.center).squaredNorm();
+      if (d2 > ball.radius * ball.radius) {
+        const double gap = std::sqrt(d2) - ball.radius;
+        if (gap * gap >= 2.0 - 2.0 * best_cos) continue;  // chord^2 = 2 - 2 cos
+      }
+      if (ball.left < 0) {
+        for (int s = ball.begin; s < ball.end; ++s) visit(arcs[s], q, best_cos, best_arc, s);
+        continue;
+      }
+      // Push the farther child first so the nearer one is searched first.
+      const double dl = (q - balls[ball.left].center).squaredNorm();
+      const double dr = (q - balls[ball.right].center).squaredNorm();
+      stack.push_back(dl <= dr ? ball.right : ball.left);
+      stack.push_back(dl <= dr ? ball.left : ball.right);
+    }
+    warm = best_arc;
+    targets.row(i) = closest_point(arcs[best_arc], q).transpose();
   }
 }
 
@@ -431,6 +514,9 @@ inline void visit(const Arc& arc, const Eigen::Vector3d& q, double& best_cos, Ei
 Normals nearest_on_curves(const Normals& normals, const std::vector<SphereCurve>& curves) {
   if (curves.empty()) throw EngineError(Status::invalid_argument, "nearest on curves: no curve");
   std::vector<Arc> arcs;
+  auto point_arc = [](const Eigen::Vector3d& p) {
+    return Arc{p, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), p};
+  };
   for (size_t c = 0; c < curves.size(); ++c) {
     const auto& pts = curves[c].points;
     if (pts.empty()) {
@@ -447,76 +533,55 @@ Normals nearest_on_curves(const Normals& normals, const std::vector<SphereCurve>
     }
     const size_t n = unit.size();
     if (n == 1) {
-      arcs.push_back({unit[0], unit[0], Eigen::Vector3d::Zero()});
+      arcs.push_back(point_arc(unit[0]));
       continue;
     }
     const size_t segs = (curves[c].closed && n > 2) ? n : n - 1;
     for (size_t s = 0; s < segs; ++s) {
       const Eigen::Vector3d& a = unit[s];
       const Eigen::Vector3d& b = unit[(s + 1) % n];
-      Eigen::Vector3d m = a.cross(b);
-      // Coincident or opposite ends: no arc to speak of, keep the ends.
-      if (m.norm() < 1e-12 || a.dot(b) < 0.0) m.setZero(); else m.normalize();
-      arcs.push_back({a, b, m});
-      if (m.squaredNorm() == 0.0 && a.dot(b) < 1.0 - 1e-12) arcs.push_back({b, b, Eigen::Vector3d::Zero()});
+      const Eigen::Vector3d m = a.cross(b);
+      // Coincident or far-apart (>= 90 degrees) ends: keep just the ends.
+      if (m.norm() < 1e-12 || a.dot(b) <= 0.0) {
+        arcs.push_back({a, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), b});
+        continue;
+      }
+      const Eigen::Vector3d mu = m.normalized();
+      arcs.push_back({a, mu, mu.cross(a), b.cross(mu), b});
     }
   }
-  // Runs of ~sqrt(#arcs) consecutive arcs.
-  const int run = std::max(4, static_cast<int>(std::sqrt(static_cast<double>(arcs.size()))));
-  std::vector<ArcRun> runs;
-  for (int s0 = 0; s0 < static_cast<int>(arcs.size()); s0 += run) {
-    ArcRun r{Eigen::Vector3d::Zero(), 0.0, s0, std::min<int>(arcs.size(), s0 + run)};
-    Eigen::Vector3d lo = arcs[s0].a, hi = lo;
-    double bulge = 0.0;
-    for (int s = r.begin; s < r.end; ++s) {
-      lo = lo.cwiseMin(arcs[s].a).cwiseMin(arcs[s].b);
-      hi = hi.cwiseMax(arcs[s].a).cwiseMax(arcs[s].b);
-      // An arc leaves its chord by at most 1 - cos(half its angle).
-      bulge = std::max(bulge, 1.0 - std::sqrt(std::max(0.0, 0.5 * (1.0 + arcs[s].a.dot(arcs[s].b)))));
-    }
-    r.center = 0.5 * (lo + hi);
-    for (int s = r.begin; s < r.end; ++s) {
-      r.radius = std::max({r.radius, (arcs[s].a - r.center).norm(), (arcs[s].b - r.center).norm()});
-    }
-    r.radius += bulge + 1e-12;
-    runs.push_back(r);
-  }
+  std::vector<Ball> balls;
+  build_balls(arcs, 0, static_cast<int>(arcs.size()), balls);
 
-  Normals targets(normals.rows(), 3);
-  const Eigen::Vector3d fallback = arcs.front().a;
-  std::vector<double> lower(runs.size());
   for (Eigen::Index i = 0; i < normals.rows(); ++i) {
-    const Eigen::Vector3d n = normals.row(i).transpose();
-    if (!n.allFinite()) {
+    if (!normals.row(i).allFinite()) {
       throw EngineError(Status::invalid_argument, "nearest on curves: normal " + std::to_string(i) + " is not finite");
     }
-    const double len = n.norm();
-    if (!(len > 0.0)) {
-      targets.row(i) = fallback.transpose();
-      continue;
+  }
+  Normals targets(normals.rows(), 3);
+  // Fixed chunks (independent of the thread count, so the warm starts and
+  // hence the results are the same however many threads run).
+  constexpr Eigen::Index kChunk = 8192;
+  const Eigen::Index chunks = (normals.rows() + kChunk - 1) / kChunk;
+  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+  const int workers = static_cast<int>(std::min<Eigen::Index>(std::min(hardware, 8u), chunks));
+  std::atomic<Eigen::Index> next{0};
+  auto work = [&]() {
+    for (Eigen::Index k = next++; k < chunks; k = next++) {
+      nearest_rows(normals, arcs, balls, k * kChunk, std::min(normals.rows(), (k + 1) * kChunk), targets);
     }
-    const Eigen::Vector3d q = n / len;
-    // Chord-distance lower bound of each run; visit runs nearest first and
-    // stop when the next bound exceeds the best chord so far.
-    for (size_t r = 0; r < runs.size(); ++r) lower[r] = std::max(0.0, (q - runs[r].center).norm() - runs[r].radius);
-    double best_cos = -2.0;
-    Eigen::Vector3d best = fallback;
-    for (;;) {
-      size_t pick = runs.size();
-      double pick_bound = INFINITY;
-      for (size_t r = 0; r < runs.size(); ++r) {
-        if (lower[r] < pick_bound) {
-          pick_bound = lower[r];
-          pick = r;
-        }
-      }
-      if (pick == runs.size()) break;
-      // Chord of the best so far: sqrt(2 - 2 cos).
-      if (best_cos > -2.0 && pick_bound * pick_bound >= 2.0 - 2.0 * best_cos) break;
-      lower[pick] = INFINITY;
-      for (int s = runs[pick].begin; s < runs[pick].end; ++s) visit(arcs[s], q, best_cos, best);
+  };
+  if (workers <= 1) {
+    work();
+  } else {
+    std::vector<std::thread> pool;
+    try {
+      for (int t = 1; t < workers; ++t) pool.emplace_back(work);
+    } catch (...) {
+      // Could not start a thread: the ones that did, and this one, finish the work.
     }
-    targets.row(i) = best.normalized().transpose();
+    work();
+    for (auto& t : pool) t.join();
   }
   return targets;
 }

@@ -102,12 +102,12 @@ std::vector<Eigen::Vector2d> find_ridge_points(const EffectField& field, double 
       const double fyy = f(ix, iy + 1) - 2.0 * f0 + f(ix, iy - 1);
       const double fxy = 0.25 * (f(ix + 1, iy + 1) - f(ix + 1, iy - 1) - f(ix - 1, iy + 1) + f(ix - 1, iy - 1));
       const double mean = 0.5 * (fxx + fyy);
-      const double dev = std::hypot(0.5 * (fxx - fyy), fxy);
+      const double dev = std::sqrt(0.25 * (fxx - fyy) * (fxx - fyy) + fxy * fxy);
       const double lmin = mean - dev, lmax = mean + dev;
       // Across-curvature must dominate (not a saddle, not isotropic).
       if (!(lmin < 0.0) || -lmin < 2.0 * std::abs(lmax)) continue;
       // Flat along the ridge compared with the fall across it (see header).
-      if (std::hypot(gx, gy) > 0.5 * -lmin * radius_cells) continue;
+      if (std::sqrt(gx * gx + gy * gy) > 0.5 * -lmin * radius_cells) continue;
       // Eigenvector of lmin: the better conditioned of the two forms.
       Eigen::Vector2d e(fxy, lmin - fxx);
       const Eigen::Vector2d e2(lmin - fyy, fxy);

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <queue>
@@ -25,9 +27,10 @@ constexpr double kBoundaryWeight = 1.0;
 constexpr double kCreaseWeight = 10.0;
 constexpr int kMinPatchFaces = 20;
 constexpr double kMinPatchAreaFraction = 0.005;
-constexpr int kSplitRounds = 3;       // Lloyd rounds after each batch of new seeds
-constexpr int kSettleRounds = 10;     // Lloyd rounds once the count is fixed
-constexpr int kMaxSplitIterations = 16;
+constexpr int kSplitRounds = 2;       // Lloyd rounds after each batch of new seeds
+constexpr int kSettleRounds = 4;     // Lloyd rounds once the count is fixed
+constexpr int kMaxSplitIterations = 8;
+constexpr int kMaxSeedsPerSplit = 4;
 constexpr double kSettledFraction = 1e-3;
 
 constexpr const char* kStage = "segmentation";
@@ -174,8 +177,19 @@ std::vector<int> grow_charts(const FaceGeometry& geometry, const FaceAdjacency& 
                              const std::vector<Chart>& charts, const GrowthScale& scale) {
   const int face_count = static_cast<int>(adjacency.neighbour.size());
   std::vector<int> label(face_count, -1);
-  using Entry = std::tuple<double, int, int>;  // cost, face, chart: ties broken by ids
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> front;
+  // Only the cheapest entry queued for a face can win it, so each face keeps
+  // one live entry: its cost and chart here, the key (cost bits, face) in the
+  // queue. Non-negative floats order like their bit patterns; equal costs
+  // fall back to the face id, which keeps the growth deterministic.
+  std::vector<float> queued_cost(face_count, HUGE_VALF);
+  std::vector<int> queued_chart(face_count, -1);
+  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>>
+      front;
+  const auto key = [](float cost, int face) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &cost, sizeof bits);
+    return (static_cast<std::uint64_t>(bits) << 32) | static_cast<std::uint32_t>(face);
+  };
   const double inverse_tolerance = 1.0 / scale.max_fit_error;
 
   const auto push_neighbours = [&](int f, int c) {
@@ -192,21 +206,26 @@ std::vector<int> grow_charts(const FaceGeometry& geometry, const FaceAdjacency& 
       const double distance2 =
           (geometry.centroid[g] - geometry.centroid[chart.seed]).squaredNorm();
       const double crease = adjacency.jump[f][i] / kCreaseAngle;
-      const double cost = fit * fit + kCompactnessWeight * M_PI * distance2 / chart.area +
+      const float cost = static_cast<float>(fit * fit + kCompactnessWeight * M_PI * distance2 / chart.area +
                           kBoundaryWeight * (1.0 - inner / adjacency.perimeter[g]) +
-                          kCreaseWeight * crease * crease;
-      front.emplace(cost, g, c);
+                          kCreaseWeight * crease * crease);
+      if (cost < queued_cost[g]) {
+        queued_cost[g] = cost;
+        queued_chart[g] = c;
+        front.push(key(cost, g));
+      }
     }
   };
 
   for (int c = 0; c < static_cast<int>(charts.size()); ++c) label[charts[c].seed] = c;
   for (int c = 0; c < static_cast<int>(charts.size()); ++c) push_neighbours(charts[c].seed, c);
   while (!front.empty()) {
-    const auto [cost, f, c] = front.top();
+    const std::uint64_t top = front.top();
     front.pop();
-    if (label[f] >= 0) continue;
-    label[f] = c;
-    push_neighbours(f, c);
+    const int f = static_cast<int>(top & 0xffffffffu);
+    if (label[f] >= 0 || top != key(queued_cost[f], f)) continue;  // taken, or outbid
+    label[f] = queued_chart[f];
+    push_neighbours(f, label[f]);
   }
   return label;
 }
@@ -317,19 +336,23 @@ std::vector<int> crease_faces(const FaceGeometry& geometry, const FaceAdjacency&
   return face;
 }
 
-// Adds a seed to every chart that fits worse than max_fit_error (at its worst
-// face) or folds over a crease (beside the crease), unless the chart is too
-// small to split. With `forced` > 0, instead adds that many seeds at the worst
-// faces of the worst charts, whatever their error. Returns the number added.
+// Adds seeds to every chart that fits worse than max_fit_error or folds over a
+// crease, unless the chart is too small to split. A badly fitting chart gets
+// about (rms / max_fit_error)^2 - 1 seeds (up to kMaxSeedsPerSplit; the error
+// of a curved chart grows with its diameter), at its worst faces, spaced by
+// the radius of the pieces it should split into; a creased chart gets one,
+// beside the crease. With `forced` > 0, instead adds that many seeds at the
+// worst faces of the worst charts, whatever their error. Returns the number added.
 int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
                     const GrowthScale& scale, int max_charts, int forced,
                     std::vector<Chart>& charts, const std::vector<int>& label) {
   const int chart_count = static_cast<int>(charts.size());
+  const int face_count = static_cast<int>(label.size());
   const std::vector<ChartFit> fits = fit_charts(geometry, label, chart_count);
   const std::vector<double> error = face_fit_errors(geometry, label, fits);
   const std::vector<double> rms = chart_rms_errors(geometry, label, error, fits);
   std::vector<int> worst(chart_count, -1);
-  for (int f = 0; f < static_cast<int>(label.size()); ++f) {
+  for (int f = 0; f < face_count; ++f) {
     const int c = label[f];
     if (f != charts[c].seed && (worst[c] < 0 || error[f] > error[worst[c]])) worst[c] = f;
   }
@@ -346,21 +369,50 @@ int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency
   } else {
     const std::vector<int> crease = crease_faces(geometry, adjacency, label, charts);
     const double min_area = kMinPatchAreaFraction * geometry.total_area;
-    const int min_faces = min_patch_faces(static_cast<int>(label.size()));
+    const int min_faces = min_patch_faces(face_count);
+    std::vector<int> wanted(chart_count, 0);
+    std::vector<double> spacing2(chart_count, 0.0);
     for (int c = 0; c < chart_count; ++c) {
-      if (chart_count + static_cast<int>(new_seeds.size()) >= max_charts) break;
       if (fits[c].face_count < 2 * min_faces || fits[c].area < 2.0 * min_area) continue;
       if (rms[c] > scale.max_fit_error && worst[c] >= 0) {
-        new_seeds.emplace_back(c, worst[c]);
+        const double ratio = rms[c] / scale.max_fit_error;
+        const int by_size =
+            std::min(fits[c].face_count / std::max(min_faces, 1), static_cast<int>(fits[c].area / min_area)) - 1;
+        wanted[c] = std::clamp(static_cast<int>(std::ceil(ratio * ratio)) - 1, 1,
+                               std::min(kMaxSeedsPerSplit, by_size));
+        spacing2[c] = fits[c].area / (M_PI * (wanted[c] + 1));
       } else if (crease[c] >= 0 && crease[c] != charts[c].seed) {
         new_seeds.emplace_back(c, crease[c]);
       }
     }
+    // Worst faces first; ties by face id.
+    std::vector<int> order;
+    for (int f = 0; f < face_count; ++f)
+      if (wanted[label[f]] > 0 && error[f] > scale.max_fit_error) order.push_back(f);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return error[a] > error[b]; });
+    std::vector<std::vector<int>> chosen(chart_count);
+    for (const int f : order) {
+      const int c = label[f];
+      if (static_cast<int>(chosen[c].size()) >= wanted[c] || f == charts[c].seed) continue;
+      bool spaced = (geometry.centroid[f] - geometry.centroid[charts[c].seed]).squaredNorm() >=
+                    spacing2[c];
+      for (const int g : chosen[c])
+        spaced = spaced && (geometry.centroid[f] - geometry.centroid[g]).squaredNorm() >= spacing2[c];
+      if (spaced) chosen[c].push_back(f);
+    }
+    for (int c = 0; c < chart_count; ++c) {
+      if (wanted[c] > 0 && chosen[c].empty()) chosen[c].push_back(worst[c]);
+      for (const int f : chosen[c]) new_seeds.emplace_back(c, f);
+    }
+    if (chart_count + static_cast<int>(new_seeds.size()) > max_charts)
+      new_seeds.resize(std::max(0, max_charts - chart_count));
   }
+  std::vector<int> pieces(chart_count, 1);
+  for (const auto& [c, seed] : new_seeds) ++pieces[c];
   for (const auto& [c, seed] : new_seeds) {
-    charts[c].area *= 0.5;
-    charts.push_back(chart_at(geometry, seed, charts[c].area));
+    charts.push_back(chart_at(geometry, seed, fits[c].area / pieces[c]));
   }
+  for (int c = 0; c < chart_count; ++c) charts[c].area = fits[c].area / pieces[c];
   return static_cast<int>(new_seeds.size());
 }
 
@@ -368,21 +420,18 @@ int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency
 //   (increase of the cone-fit residual) / ((area(a) + area(b)) max_fit_error^2)
 // + (mean normal jump along their shared border / kCreaseAngle)^2
 // so that charts whose union still fits one cone and that meet smoothly go
-// first. `should_merge(count, areas, faces)` picks the next chart to absorb
-// into its cheapest neighbour, or returns -1 to stop (it may return any chart
-// with a neighbour; -2 asks for the globally cheapest pair instead).
-// Returns labels with ids 0 .. k-1.
+// first. Chart ids stay those of the input labelling; labels() renumbers.
 class ChartMerger {
  public:
   ChartMerger(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
               const std::vector<int>& label, int chart_count, const GrowthScale& scale)
-      : label_(label), scale_(scale), parent_(chart_count), alive_(chart_count, true),
-        moments_(chart_count), face_count_(chart_count, 0), borders_(chart_count),
-        count_(chart_count) {
+      : geometry_(geometry), label_(label), scale_(scale), parent_(chart_count),
+        alive_(chart_count, true), moments_(chart_count), faces_(chart_count),
+        borders_(chart_count), count_(chart_count) {
     for (int c = 0; c < chart_count; ++c) parent_[c] = c;
     for (int f = 0; f < static_cast<int>(label.size()); ++f) {
       moments_[label[f]].add(geometry.normal[f], geometry.area[f]);
-      ++face_count_[label[f]];
+      faces_[label[f]].push_back(f);
       for (int i = 0; i < 3; ++i) {
         const int g = adjacency.neighbour[f][i];
         if (g < 0 || label[g] == label[f]) continue;
@@ -398,18 +447,43 @@ class ChartMerger {
   int count() const { return count_; }
   bool alive(int c) const { return alive_[c]; }
   double area(int c) const { return moments_[c].weight; }
-  int face_count(int c) const { return face_count_[c]; }
+  int face_count(int c) const { return static_cast<int>(faces_[c].size()); }
   bool has_neighbour(int c) const { return !borders_[c].empty(); }
+
+  // Mean normal jump (rad) over the border of two adjacent charts.
+  double border_jump(int a, int b) const {
+    const Border& border = borders_[a].at(b);
+    return border.jump_length / border.length;
+  }
 
   double merge_cost(int a, int b) const {
     NormalMoments merged = moments_[a];
     merged += moments_[b];
     const double increase = fit_cone(merged).residual - residual_[a] - residual_[b];
-    const Border& border = borders_[a].at(b);
-    const double jump = border.jump_length / border.length / kCreaseAngle;
+    const double jump = border_jump(a, b) / kCreaseAngle;
     return std::max(increase, 0.0) /
                (merged.weight * scale_.max_fit_error * scale_.max_fit_error) +
            jump * jump;
+  }
+
+  // Whether the union of two adjacent charts still fits one cone within
+  // max_fit_error (area-weighted RMS angle) and they do not meet at a crease.
+  bool union_fits(int a, int b) const {
+    if (border_jump(a, b) >= kCreaseAngle) return false;
+    NormalMoments merged = moments_[a];
+    merged += moments_[b];
+    const ConeFit fit = fit_cone(merged);
+    // |cos x - cos y| <= |x - y|: the algebraic RMS bounds the angular one from
+    // below and rejects most pairs without a pass over their faces.
+    const double bound2 = scale_.max_fit_error * scale_.max_fit_error * merged.weight;
+    if (fit.residual > bound2) return false;
+    double sum = 0.0;
+    for (const int c : {a, b})
+      for (const int f : faces_[c]) {
+        const double error = angle_to_cone(fit.cone, geometry_.normal[f]);
+        sum += geometry_.area[f] * error * error;
+      }
+    return sum <= bound2;
   }
 
   // The neighbour of c that is cheapest to merge with (ties: lowest id).
@@ -418,7 +492,7 @@ class ChartMerger {
     double best_cost = HUGE_VAL;
     for (const auto& [d, border] : borders_[c]) {
       const double cost = merge_cost(c, d);
-      if (cost < best_cost) {
+      if (best < 0 || cost < best_cost) {
         best_cost = cost;
         best = d;
       }
@@ -426,11 +500,19 @@ class ChartMerger {
     return best;
   }
 
+  std::vector<int> neighbours(int c) const {
+    std::vector<int> ids;
+    for (const auto& [d, border] : borders_[c]) ids.push_back(d);
+    return ids;
+  }
+
   // Absorbs chart b into chart a.
   void merge(int a, int b) {
     moments_[a] += moments_[b];
     residual_[a] = fit_cone(moments_[a]).residual;
-    face_count_[a] += face_count_[b];
+    faces_[a].insert(faces_[a].end(), faces_[b].begin(), faces_[b].end());
+    faces_[b].clear();
+    faces_[b].shrink_to_fit();
     for (const auto& [d, border] : borders_[b]) {
       if (d == a) continue;
       Border& into = borders_[a][d];
@@ -468,20 +550,52 @@ class ChartMerger {
     double jump_length = 0.0;  // sum of length * normal jump over the border edges
   };
 
+  const FaceGeometry& geometry_;
   std::vector<int> label_;
   GrowthScale scale_;
   std::vector<int> parent_;
   std::vector<bool> alive_;
   std::vector<NormalMoments> moments_;
   std::vector<double> residual_;
-  std::vector<int> face_count_;
+  std::vector<std::vector<int>> faces_;
   std::vector<std::map<int, Border>> borders_;  // ordered: deterministic iteration
   int count_;
 };
 
-// Merges every chart smaller than kMinPatchFaces faces (scaled down on tiny
-// meshes) or kMinPatchAreaFraction of the area into its cheapest neighbour,
-// smallest first.
+// Merges adjacent charts whose union still fits (ChartMerger::union_fits),
+// cheapest first: undoes splits that Lloyd rounds made unnecessary and seeds
+// that landed on a piece another chart already fits.
+std::vector<int> merge_fitting_charts(const FaceGeometry& geometry,
+                                      const FaceAdjacency& adjacency,
+                                      const std::vector<int>& label, int chart_count,
+                                      const GrowthScale& scale) {
+  ChartMerger merger(geometry, adjacency, label, chart_count, scale);
+  // Candidate pairs by cost; a pair is stale once either chart has changed.
+  using Candidate = std::tuple<double, int, int, int, int>;  // cost, a, b, versions
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> candidates;
+  std::vector<int> version(chart_count, 0);
+  const auto push_pairs = [&](int a) {
+    for (const int b : merger.neighbours(a))
+      candidates.emplace(merger.merge_cost(a, b), std::min(a, b), std::max(a, b),
+                         version[std::min(a, b)], version[std::max(a, b)]);
+  };
+  for (int a = 0; a < chart_count; ++a) push_pairs(a);
+  while (!candidates.empty()) {
+    const auto [cost, a, b, version_a, version_b] = candidates.top();
+    candidates.pop();
+    if (!merger.alive(a) || !merger.alive(b) || version[a] != version_a ||
+        version[b] != version_b || !merger.union_fits(a, b))
+      continue;
+    const int kept = merger.area(a) >= merger.area(b) ? a : b;
+    merger.merge(kept, kept == a ? b : a);
+    ++version[kept];
+    push_pairs(kept);
+  }
+  return merger.labels();
+}
+
+// Merges every chart smaller than min_patch_faces() faces or
+// kMinPatchAreaFraction of the area into its cheapest neighbour, smallest first.
 std::vector<int> merge_small_charts(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
                                     const std::vector<int>& label, int chart_count,
                                     const GrowthScale& scale) {
@@ -516,7 +630,7 @@ std::vector<int> merge_to_count(const FaceGeometry& geometry, const FaceAdjacenc
       const int b = merger.cheapest_neighbour(a);
       if (b < 0) continue;
       const double cost = merger.merge_cost(a, b);
-      if (cost < best_cost) {
+      if (best_a < 0 || cost < best_cost) {
         best_cost = cost;
         best_a = a;
         best_b = b;
@@ -614,7 +728,8 @@ std::vector<int> segment_mesh(const Positions& positions, const Triangles& trian
     return label;
   }
 
-  label = merge_small_charts(geometry, adjacency, label, static_cast<int>(charts.size()), scale);
+  label = merge_fitting_charts(geometry, adjacency, label, static_cast<int>(charts.size()), scale);
+  label = merge_small_charts(geometry, adjacency, label, *std::max_element(label.begin(), label.end()) + 1, scale);
   progress.report(0.75, kStage);
   charts = charts_of(geometry, scale, label);
   lloyd(geometry, adjacency, scale, kSettleRounds, charts, label);

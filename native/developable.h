@@ -63,7 +63,8 @@ enum {
 enum {
   DEV_STOP_ALREADY_DEVELOPABLE = 0, /* mean |defect| already below developable_threshold: mesh untouched */
   DEV_STOP_CONVERGED = 1,           /* mean |defect| changed by less than stop_relative_change */
-  DEV_STOP_ITERATION_LIMIT = 2      /* max_iterations reached */
+  DEV_STOP_ITERATION_LIMIT = 2,     /* max_iterations reached */
+  DEV_STOP_STALLED = 3              /* the best mean |defect| improved by less than 1 % in 10 iterations */
 };
 
 /* Seam treatment for segmented meshes (issue: segmentation). */

@@ -18,6 +18,10 @@ using Clock = std::chrono::steady_clock;
 // automatic segmentation splits the mesh into patches.
 constexpr double kAutoSegmentationError = 0.12;
 
+// Stall rule of the iteration (see run_pipeline).
+constexpr size_t kStallIterations = 10;
+constexpr double kStallImprovement = 0.01;
+
 double elapsed_ms(Clock::time_point since) {
   return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
 }
@@ -236,6 +240,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   Positions current = positions;
   double previous_mean = before.mean_abs;
   double best_mean = before.mean_abs;
+  std::vector<double> best_history;
   stats.stop_reason = StopReason::iteration_limit;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report(0.1 + 0.9 * (iteration - 1) / options.max_iterations, "deformation");
@@ -268,6 +273,16 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     previous_mean = now.mean_abs;
     if (change < options.stop_relative_change || now.mean_abs <= options.developable_threshold) {
       stats.stop_reason = StopReason::converged;
+      break;
+    }
+    // Noise keeps the paper's criterion from firing long after the result
+    // stopped getting better, while the free boundary slowly drifts: stop
+    // when the best mean |defect| gained less than 1 % in 10 iterations.
+    best_history.push_back(best_mean);
+    if (best_history.size() > kStallIterations &&
+        best_history[best_history.size() - 1 - kStallIterations] - best_mean <
+            kStallImprovement * best_history[best_history.size() - 1 - kStallIterations]) {
+      stats.stop_reason = StopReason::stalled;
       break;
     }
   }

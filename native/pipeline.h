@@ -28,7 +28,7 @@ enum class Seams {
   pinned,  // the paper's: vertices on patch borders are pinned
 };
 
-enum class StopReason { already_developable = 0, converged = 1, iteration_limit = 2 };
+enum class StopReason { already_developable = 0, converged = 1, iteration_limit = 2, stalled = 3 };
 
 struct PipelineOptions {
   double omega = 5.0;                   // weight of the normal rows, > 0

@@ -15,7 +15,7 @@ STATUS = {
 MODES = {"refit": 0, "paper": 1}
 SOLVERS = {"decoupled": 0, "coupled": 1}
 SEAMS = {"free": 0, "pinned": 1}
-STOP_REASONS = {0: "already_developable", 1: "converged", 2: "iteration_limit"}
+STOP_REASONS = {0: "already_developable", 1: "converged", 2: "iteration_limit", 3: "stalled"}
 
 
 class Params(ctypes.Structure):

@@ -117,7 +117,7 @@ def test_stats_match_the_mesh(engine):
     assert s["average_edge_length"] == pytest.approx(np.mean(lengths), rel=1e-12)
     assert s["time_total_ms"] >= s["time_decompose_ms"] + s["time_iterate_ms"] - 1e-6
     assert 1 <= s["iterations"] <= 100
-    assert s["stop_reason"] in ("converged", "iteration_limit")
+    assert s["stop_reason"] in ("converged", "iteration_limit", "stalled")
     assert np.allclose(np.linalg.norm(r.target_normals, axis=1), 1.0)
     assert len(r.curves) >= 1
     for curve in r.curves:

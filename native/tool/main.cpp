@@ -96,6 +96,7 @@ const char* stop_reason_name(int32_t reason) {
   switch (reason) {
     case DEV_STOP_ALREADY_DEVELOPABLE: return "already_developable";
     case DEV_STOP_CONVERGED: return "converged";
+    case DEV_STOP_STALLED: return "stalled";
     default: return "iteration_limit";
   }
 }

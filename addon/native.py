@@ -33,6 +33,7 @@ STATUS_NAMES = {
     10: "NUMERICAL_FAILURE",
     11: "OUT_OF_MEMORY",
     12: "INTERNAL_ERROR",
+    13: "NO_INTERIOR_VERTEX",
 }
 STATUS_OK = 0
 STATUS_CANCELLED = 9
@@ -41,8 +42,10 @@ MODE_REFIT = 0
 MODE_PAPER = 1
 SEAMS_FREE = 0
 SEAMS_PINNED = 1
+SOLVER_DECOUPLED = 0
+SOLVER_COUPLED = 1
 
-STOP_REASONS = {0: "already developable", 1: "converged", 2: "iteration limit"}
+STOP_REASONS = {0: "already developable", 1: "converged", 2: "iteration limit", 3: "stalled"}
 
 if sys.platform.startswith("win"):
     LIBRARY_FILE = "developable.dll"
@@ -70,7 +73,14 @@ class dev_params(ctypes.Structure):
         ("segment_max_error", ctypes.c_double),
         ("seams", ctypes.c_int32),
         ("grid_resolution", ctypes.c_int32),
+        ("solver", ctypes.c_int32),
     ]
+
+
+class _ParamsBuffer(ctypes.Union):
+    """dev_params with room to spare, so that a library whose struct grew
+    without an ABI bump cannot write past our buffer."""
+    _fields_ = [("params", dev_params), ("_reserve", ctypes.c_char * 512)]
 
 
 # The engine parameters, in struct order (properties.py builds one Blender
@@ -234,21 +244,26 @@ def version():
     return load().dev_version_string().decode("utf-8", "replace")
 
 
+def _defaults_buffer():
+    buf = _ParamsBuffer()
+    load().dev_default_params(ctypes.cast(ctypes.byref(buf), _P(dev_params)))
+    return buf
+
+
 def default_params():
     """dict name -> default value, from the library."""
-    p = dev_params()
-    load().dev_default_params(ctypes.byref(p))
+    p = _defaults_buffer().params
     return {name: getattr(p, name) for name in PARAM_NAMES}
 
 
 def make_params(values):
-    """dev_params from the library's defaults overridden by `values` (a dict)."""
-    p = dev_params()
-    load().dev_default_params(ctypes.byref(p))
+    """dev_params (in a padded buffer) from the library's defaults overridden by
+    `values` (a dict)."""
+    buf = _defaults_buffer()
     for name, value in (values or {}).items():
         if name in PARAM_NAMES:
-            setattr(p, name, value)
-    return p
+            setattr(buf.params, name, value)
+    return buf
 
 
 def _as_positions(positions):
@@ -360,7 +375,7 @@ def run(positions, triangles, pinned=None, params=None, progress=None):
     res = _result_p()
     msg = ctypes.create_string_buffer(1024)
     status = lib.dev_run(pos.ctypes.data_as(_dbl_p), n, tri.ctypes.data_as(_i32_p), t,
-                         pin_ptr, ctypes.byref(p), cb, None, ctypes.byref(res), msg, len(msg))
+                         pin_ptr, ctypes.cast(ctypes.byref(p), _P(dev_params)), cb, None, ctypes.byref(res), msg, len(msg))
     message = msg.value.decode("utf-8", "replace")
     if status != STATUS_OK:
         if res.value:

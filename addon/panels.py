@@ -20,6 +20,9 @@ def draw_parameters(layout, owner, obj):
     col.prop(owner, "tolerance")
     col.prop(owner, "max_iterations")
     layout.prop(owner, "mode")
+    sub = layout.row()
+    sub.active = owner.mode != 'PAPER'
+    sub.prop(owner, "solver")
     col = layout.column(align=True, heading="Stop")
     col.prop(owner, "stop_relative_change")
     col.prop(owner, "developable_threshold")

@@ -32,10 +32,19 @@ SEAMS_ITEMS = [
      "deformed one by one", native.SEAMS_PINNED),
 ]
 
+SOLVER_ITEMS = [
+    ("DECOUPLED", "Decoupled", "The normal rows go to the right-hand side: one n x n matrix shared by "
+     "x, y and z, factored once even when the target normals change (fast, default)",
+     native.SOLVER_DECOUPLED),
+    ("COUPLED", "Coupled", "The paper's 11 rows per triangle (Eq. 3-4) in one 3n x 3n system "
+     "W A^T A W x = W A^T c (Eq. 7), refactored when the targets change", native.SOLVER_COUPLED),
+]
+
 ENUM_VALUES = {
     "mode": {i[0]: i[3] for i in MODE_ITEMS},
     "segmentation": {i[0]: i[3] for i in SEGMENTATION_ITEMS},
     "seams": {i[0]: i[3] for i in SEAMS_ITEMS},
+    "solver": {i[0]: i[3] for i in SOLVER_ITEMS},
 }
 
 
@@ -92,6 +101,10 @@ def engine_property_definitions():
             name="Grid Resolution", default=0, min=0, soft_max=512,
             description="Cells per side of the radial effect field (Eq. 1) in which the "
             "skeleton of the normal image is found; 0 = the engine's default (128)"),
+        "solver": EnumProperty(
+            name="Solver", items=SOLVER_ITEMS, default="DECOUPLED",
+            description="How the normal rows enter the linear system (Paper mode always uses "
+            "the coupled system)"),
     }
 
 

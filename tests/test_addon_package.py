@@ -123,3 +123,26 @@ def test_zip_installs_and_enables(blender_env, installed_addon_dir):
         if k == "grid_resolution" and props[k] == 0:
             continue
         assert props[k] == pytest.approx(engine[k]), k
+
+
+def _header_struct(name):
+    text = (REPO / "native" / "developable.h").read_text()
+    body = re.search(r"typedef struct %s \{(.*?)\} %s;" % (name, name), text, re.S).group(1)
+    body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
+    return re.findall(r"^\s*(int32_t|int64_t|double|uint8_t)\s+(\w+)\s*;", body, re.M)
+
+
+def test_ctypes_binding_matches_the_header():
+    import ctypes
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("dev_native", REPO / "addon" / "native.py")
+    native = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(native)
+    ctype = {"int32_t": ctypes.c_int32, "int64_t": ctypes.c_int64, "double": ctypes.c_double,
+             "uint8_t": ctypes.c_uint8}
+    for struct in ("dev_params", "dev_stats"):
+        header = [(n, ctype[t]) for t, n in _header_struct(struct)]
+        assert header == list(getattr(native, struct)._fields_), struct
+    abi = int(re.search(r"#define DEV_ABI_VERSION (\d+)",
+                        (REPO / "native" / "developable.h").read_text()).group(1))
+    assert native.ABI_VERSION == abi

@@ -20,13 +20,13 @@ namespace developable {
 namespace {
 
 // Defaults and weights; docs/segmentation.md tells how they were measured.
-constexpr double kDefaultMaxFitError = 0.05;   // rad, area-weighted RMS
+constexpr double kDefaultMaxFitError = 0.1;    // rad, area-weighted RMS
 constexpr double kCreaseAngle = 0.4363323129985824;  // 25 deg between neighbour normals
 constexpr double kCompactnessWeight = 0.5;
 constexpr double kBoundaryWeight = 1.0;
-constexpr double kCreaseWeight = 10.0;
+constexpr double kCreaseWeight = 2.0;
 constexpr int kMinPatchFaces = 20;
-constexpr double kMinPatchAreaFraction = 0.005;
+constexpr double kMinPatchAreaFraction = 0.01;
 constexpr int kSplitRounds = 2;       // Lloyd rounds after each batch of new seeds
 constexpr int kSettleRounds = 4;     // Lloyd rounds once the count is fixed
 constexpr int kMaxSplitIterations = 8;

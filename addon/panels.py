@@ -13,7 +13,8 @@ CATEGORY = "Developable"
 
 def draw_parameters(layout, owner, obj):
     """Engine parameters and pins of `owner` (scene settings or the operator)."""
-    layout.use_property_split = True
+    # Labels inside the fields: the sidebar is narrow.
+    layout.use_property_split = False
     layout.use_property_decorate = False
     col = layout.column(align=True)
     col.prop(owner, "omega")
@@ -23,7 +24,7 @@ def draw_parameters(layout, owner, obj):
     sub = layout.row()
     sub.active = owner.mode != 'PAPER'
     sub.prop(owner, "solver")
-    col = layout.column(align=True, heading="Stop")
+    col = layout.column(align=True)
     col.prop(owner, "stop_relative_change")
     col.prop(owner, "developable_threshold")
     col = layout.column(align=True)
@@ -34,7 +35,8 @@ def draw_parameters(layout, owner, obj):
     sub.prop(owner, "segment_max_error")
     sub.prop(owner, "seams")
     layout.prop(owner, "grid_resolution")
-    box = layout.column(heading="Pins")
+    box = layout.column(align=True)
+    box.label(text="Pins", icon='PINNED')
     box.prop(owner, "pin_boundary", text="Boundary")
     if obj is not None and obj.type == 'MESH':
         box.prop_search(owner, "pin_group", obj, "vertex_groups", text="Vertex Group")
@@ -106,10 +108,11 @@ class VIEW3D_PT_developable_result(Panel):
                 ("E before", "%.4g rad" % rec.e_before),
                 ("E after", "%.4g rad" % rec.e_after),
                 ("dE", "%+.1f %%" % rec.change_percent),
-                ("Time", "%.0f ms (t_D %.0f, t_I %.0f)" % (rec.time_ms, rec.time_decompose_ms,
-                                                          rec.time_iterate_ms)),
+                ("Time", "%.0f ms" % rec.time_ms),
+                ("t_D / t_I", "%.0f / %.0f ms" % (rec.time_decompose_ms, rec.time_iterate_ms)),
                 ("Iterations", "%d (%s)" % (rec.iterations, rec.stop_reason)),
-                ("Largest move", "%.4g (%.2f AE)" % (rec.max_move, rec.max_move_ae)),
+                ("Largest move", "%.4g" % rec.max_move),
+                ("  in AE", "%.2f AE" % rec.max_move_ae),
                 ("Patches", "%d, %d curves" % (rec.patches, rec.curves)),
                 ("Pinned", "%d vertices" % rec.pinned)):
             grid.label(text=label)
@@ -125,13 +128,12 @@ class VIEW3D_PT_developable_result(Panel):
         row = col.row(align=True)
         row.prop(rec, "show_after", text="After" if rec.show_after else "Before",
                  toggle=True, icon='HIDE_OFF')
-        col.label(text="Scale: blue -%.3g  white 0  red +%.3g rad"
-                  % (rec.colour_scale, rec.colour_scale))
-        col.label(text="(same scale before and after; grey: boundary)")
+        col.label(text="\u00b1%.3g rad, both states" % rec.colour_scale)
+        col.label(text="blue \u2212 / white 0 / red +")
         if context.space_data and getattr(context.space_data, "shading", None):
             shading = context.space_data.shading
             if shading.type == 'SOLID':
-                col.prop(shading, "color_type", text="Viewport Colour")
+                col.prop(shading, "color_type", text="")
 
         if gauss_image.exists(obj):
             layout.prop(rec, "show_gauss_image", text="Show Gauss Image")

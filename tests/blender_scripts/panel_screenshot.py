@@ -1,8 +1,8 @@
 """Screenshot of the sidebar panel in a real Blender window (docs/addon-panel.png).
 
   blender -b -P scripts/batch_developable.py -- demo:cone_band /tmp/cone.blend --gauss-image
-  xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --enable-event-simulate \
-      --window-geometry 0 0 1600 1000 /tmp/cone.blend \
+  xvfb-run -a -s "-screen 0 1600x1200x24" blender --factory-startup --enable-event-simulate \
+      --window-geometry 0 0 1600 1200 /tmp/cone.blend \
       --python tests/blender_scripts/panel_screenshot.py -- docs/addon-panel.png
 
 The add-on must be installed (BLENDER_USER_SCRIPTS, as scripts/run.sh does).
@@ -45,6 +45,19 @@ def setup():
 
 
 def click_tab():
+    win, area = view3d()
+    ui = next(r for r in area.regions if r.type == 'UI')
+    # widen the sidebar: drag its left edge
+    ey = ui.y + ui.height // 2
+    win.event_simulate(type='MOUSEMOVE', value='NOTHING', x=ui.x + 1, y=ey)
+    win.event_simulate(type='LEFTMOUSE', value='PRESS', x=ui.x + 1, y=ey)
+    win.event_simulate(type='MOUSEMOVE', value='NOTHING', x=ui.x - 60, y=ey)
+    win.event_simulate(type='MOUSEMOVE', value='NOTHING', x=ui.x - 120, y=ey)
+    win.event_simulate(type='LEFTMOUSE', value='RELEASE', x=ui.x - 120, y=ey)
+    bpy.app.timers.register(click_tab2, first_interval=0.5)
+
+
+def click_tab2():
     win, area = view3d()
     ui = next(r for r in area.regions if r.type == 'UI')
     x = ui.x + ui.width - 10

@@ -302,6 +302,10 @@ std::vector<int> refine(std::vector<Spline>& splines, const EffectField& field, 
   return support;
 }
 
+// See the planar test in fit_ideal_curves: a noisy arc shorter than ~10
+// noise widths counts as a point.
+constexpr double kMaxResidualOverSpread = 0.35;
+
 SphereCurve single_point(const Eigen::Vector3d& p) {
   SphereCurve c;
   c.points.push_back(p);
@@ -377,6 +381,27 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
   std::vector<Spline> splines;
   for (const SkeletonCurve& s : skeleton) splines.push_back(fit_skeleton(s, field.effect_radius));
   const std::vector<int> support = refine(splines, field, 4);
+
+  // Planar after all when the curves barely explain the points: their RMS
+  // distance to the curves is a large part of their RMS spread about the
+  // centroid (a 2-D blob with a few ridges through its noise).
+  {
+    std::vector<Polyline> lines;
+    for (const Spline& s : splines) lines.push_back(sample_spline(s, 32 * static_cast<int>(s.ctrl.size())));
+    const ChartNearest search(lines);
+    double total = 0.0, residual = 0.0, spread = 0.0;
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (const FieldSource& src : field.sources) {
+      total += src.weight;
+      centroid += src.weight * src.position;
+      residual += src.weight * search.nearest(src.position).dist2;
+    }
+    if (total > 0.0) {
+      centroid /= total;
+      for (const FieldSource& src : field.sources) spread += src.weight * (src.position - centroid).squaredNorm();
+      if (residual > kMaxResidualOverSpread * kMaxResidualOverSpread * spread) return {single_point(mean)};
+    }
+  }
 
   std::vector<SphereCurve> curves;
   for (size_t k = 0; k < splines.size(); ++k) {

@@ -127,7 +127,8 @@ std::vector<Eigen::Vector2d> find_ridge_points(const EffectField& field, double 
 }
 
 std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>& points,
-                                              double link_distance, double min_branch_fraction) {
+                                              double link_distance, double min_branch_fraction,
+                                              double min_length) {
   if (!(link_distance > 0.0) || !std::isfinite(link_distance)) {
     throw EngineError(Status::invalid_argument, "skeleton: link_distance must be finite and > 0");
   }
@@ -231,9 +232,15 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
     Candidate c;
     for (int u : main) c.points.push_back(points[u]);
     c.length = path_length(c.points);
+    // Closed when the gap between the ends is like a step along the path
+    // (a ring whose MST dropped one edge) or small against the length.
+    double longest_step = 0.0;
+    for (size_t k = 1; k < c.points.size(); ++k) {
+      longest_step = std::max(longest_step, (c.points[k] - c.points[k - 1]).norm());
+    }
     const double gap = (c.points.front() - c.points.back()).norm();
-    c.closed = c.points.size() >= 6 && c.length >= 8.0 * link_distance &&
-               gap <= std::max(2.0 * link_distance, 0.08 * c.length);
+    c.closed = c.points.size() >= 4 && c.length >= 3.0 * gap &&
+               gap <= std::max(std::min(2.0 * link_distance, 1.5 * longest_step), 0.08 * c.length);
     // Branches: subtrees hanging off the main path, measured from the junction.
     for (int u : main) blocked[u] = 1;
     for (int u : main) {
@@ -255,7 +262,7 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
   }
   double longest = 0.0;
   for (const auto& c : found) longest = std::max(longest, c.length);
-  const double keep_length = std::max(min_branch_fraction * longest, 2.0 * link_distance);
+  const double keep_length = std::max(min_branch_fraction * longest, min_length);
   std::stable_sort(found.begin(), found.end(),
                    [](const Candidate& x, const Candidate& y) { return x.length > y.length; });
   for (auto& c : found) {
@@ -277,9 +284,21 @@ std::vector<SkeletonCurve> extract_skeleton(const EffectField& field, const Skel
   for (const FieldSource& s : field.sources) total_count += s.count;
   if (total_count < 4 || field.sources.size() < 2) return none;
 
-  const std::vector<Eigen::Vector2d> ridge = find_ridge_points(field, options.min_field_fraction);
-  const double link = std::max(2.5 * field.cell_size, 0.5 * field.effect_radius);
-  std::vector<SkeletonCurve> curves = order_ridge_points(ridge, link, options.min_branch_fraction);
+  std::vector<SkeletonCurve> curves;
+  if (static_cast<int>(field.sources.size()) < options.min_sources_for_field) {
+    // Few distinct normals (a coarse mesh: a 12-sided cylinder has 12): there
+    // is no density to find a ridge in, and the gaps exceed any useful effect
+    // radius. Each occupied cell is a skeleton point; all may link.
+    std::vector<Eigen::Vector2d> nodes;
+    for (const FieldSource& s : field.sources) {
+      if (s.weight > 0.0) nodes.push_back(s.position);
+    }
+    curves = order_ridge_points(nodes, field.cell_size * field.resolution * 2.0, options.min_branch_fraction, 0.0);
+  } else {
+    const std::vector<Eigen::Vector2d> ridge = find_ridge_points(field, options.min_field_fraction);
+    const double link = std::max(2.5 * field.cell_size, 0.5 * field.effect_radius);
+    curves = order_ridge_points(ridge, link, options.min_branch_fraction, 2.0 * link);
+  }
   if (curves.empty()) return none;
 
   // Planar test: ridge extent against the RMS spread of the points.

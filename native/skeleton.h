@@ -10,8 +10,12 @@
 //    parabola through the cell and its two neighbours along that direction.
 //  * An isotropic bump (a planar patch's Gauss image) has every point on it a
 //    maximum across its level line. Such points are rejected by asking the
+//    across-curvature to dominate (|lambda_min| >= 2 |lambda_max|) and the
 //    field to be flat along the ridge compared with how sharply it falls
-//    across: |grad f| <= |lambda_min| * R.
+//    across (|grad f| <= |lambda_min| * R / 2, per cell).
+//  * A coarse mesh has few distinct normals and no density to speak of:
+//    below min_sources_for_field occupied cells, the cells' centroids are
+//    the skeleton points.
 //  * Ordering: a Euclidean minimum spanning tree over the ridge points (on
 //    their k-nearest-neighbour graph) and its longest path (tree diameter).
 //    When the two ends of that path are close compared with its length, the
@@ -36,7 +40,7 @@ struct SkeletonCurve {
 
 struct SkeletonOptions {
   // A ridge point needs field >= this fraction of the field's maximum.
-  double min_field_fraction = 0.05;
+  double min_field_fraction = 0.01;
   // Branches and separate components shorter than this fraction of the
   // longest path are dropped as noise.
   double min_branch_fraction = 0.25;
@@ -50,6 +54,9 @@ struct SkeletonOptions {
   // blob gives ~0.65, a curve of length L and scatter s gives 3.5 s / L, so
   // an arc shorter than ~7 scatter widths counts as a point.
   double max_thickness_over_spread = 0.5;
+  // Below this many occupied cells the field is skipped: the cells'
+  // centroids themselves are the skeleton points (coarse meshes).
+  int min_sources_for_field = 48;
 };
 
 // Unordered ridge points of the field, chart units, in cell order (so
@@ -59,11 +66,15 @@ std::vector<Eigen::Vector2d> find_ridge_points(const EffectField& field, double 
 
 // Orders ridge points into curves (see the file comment).
 //   points: chart points; link_distance: longest gap bridged between two
-//   neighbouring points (chart units, > 0); min_branch_fraction as above.
+//   neighbouring points (chart units, > 0); min_branch_fraction as above;
+//   min_length: shortest curve kept, chart units.
+// A path is closed when the gap between its ends is at most
+// max(min(2 link, 1.5 * its longest step), 0.08 * its length).
 // Returns curves longest first; each has >= 2 points. Empty if points has
 // fewer than 2 points or nothing is long enough.
 std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>& points,
-                                              double link_distance, double min_branch_fraction);
+                                              double link_distance, double min_branch_fraction,
+                                              double min_length);
 
 // The whole stage: ridge points, ordering, and the planar test.
 // Returns an empty vector when the Gauss image is about a point (planar

@@ -281,8 +281,10 @@ std::vector<double> chart_rms_errors(const FaceGeometry& geometry, const std::ve
 // best fits its cone near the chart's centroid; stop when the labels repeat
 // (up to kSettledFraction of the faces: boundaries can flicker by a face).
 // `label` holds the previous labelling (or is empty) and is updated in place.
+// Reports `fraction` after each round (a round of a million faces takes ~0.3 s).
 void lloyd(const FaceGeometry& geometry, const FaceAdjacency& adjacency, const GrowthScale& scale,
-           int max_rounds, std::vector<Chart>& charts, std::vector<int>& label) {
+           int max_rounds, const Progress& progress, double fraction, std::vector<Chart>& charts,
+           std::vector<int>& label) {
   const int chart_count = static_cast<int>(charts.size());
   const double inverse_tolerance = 1.0 / scale.max_fit_error;
   for (int round = 0; round < max_rounds; ++round) {
@@ -310,6 +312,7 @@ void lloyd(const FaceGeometry& geometry, const FaceAdjacency& adjacency, const G
     }
     const bool settled = changed <= kSettledFraction * static_cast<double>(grown.size());
     label = std::move(grown);
+    progress.report(fraction, kStage);
     if (settled) break;
   }
 }
@@ -341,8 +344,8 @@ std::vector<int> crease_faces(const FaceGeometry& geometry, const FaceAdjacency&
 // about (rms / max_fit_error)^2 - 1 seeds (up to kMaxSeedsPerSplit; the error
 // of a curved chart grows with its diameter), at its worst faces, spaced by
 // the radius of the pieces it should split into; a creased chart gets one,
-// beside the crease. With `forced` > 0, instead adds that many seeds at the
-// worst faces of the worst charts, whatever their error. Returns the number added.
+// beside the crease. With `forced` > 0, instead adds one seed to each of that
+// many worst charts, whatever their error. Returns the number added.
 int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
                     const GrowthScale& scale, int max_charts, int forced,
                     std::vector<Chart>& charts, const std::vector<int>& label) {
@@ -358,26 +361,31 @@ int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency
   }
 
   std::vector<std::pair<int, int>> new_seeds;  // chart split, seed face
+  std::vector<int> wanted(chart_count, 0);
+  std::vector<double> spacing2(chart_count, 0.0);
   if (forced > 0) {
-    std::vector<int> order(chart_count);
-    for (int c = 0; c < chart_count; ++c) order[c] = c;
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return rms[a] > rms[b]; });
-    for (const int c : order) {
-      if (static_cast<int>(new_seeds.size()) == forced) break;
-      if (worst[c] >= 0) new_seeds.emplace_back(c, worst[c]);
+    // The charts with the largest fitting energy (area * rms^2): large and
+    // badly fitting charts before tiny noisy ones.
+    std::vector<int> order;
+    for (int c = 0; c < chart_count; ++c)
+      if (worst[c] >= 0) order.push_back(c);
+    const auto energy = [&](int c) { return fits[c].area * rms[c] * rms[c]; };
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return energy(a) > energy(b); });
+    for (int i = 0; i < std::min(forced, static_cast<int>(order.size())); ++i) {
+      wanted[order[i]] = 1;
+      spacing2[order[i]] = fits[order[i]].area / (2.0 * M_PI);
     }
   } else {
     const std::vector<int> crease = crease_faces(geometry, adjacency, label, charts);
     const double min_area = kMinPatchAreaFraction * geometry.total_area;
     const int min_faces = min_patch_faces(face_count);
-    std::vector<int> wanted(chart_count, 0);
-    std::vector<double> spacing2(chart_count, 0.0);
     for (int c = 0; c < chart_count; ++c) {
       if (fits[c].face_count < 2 * min_faces || fits[c].area < 2.0 * min_area) continue;
       if (rms[c] > scale.max_fit_error && worst[c] >= 0) {
         const double ratio = rms[c] / scale.max_fit_error;
-        const int by_size =
-            std::min(fits[c].face_count / std::max(min_faces, 1), static_cast<int>(fits[c].area / min_area)) - 1;
+        const int by_size = std::min(fits[c].face_count / std::max(min_faces, 1),
+                                     static_cast<int>(fits[c].area / min_area)) - 1;
         wanted[c] = std::clamp(static_cast<int>(std::ceil(ratio * ratio)) - 1, 1,
                                std::min(kMaxSeedsPerSplit, by_size));
         spacing2[c] = fits[c].area / (M_PI * (wanted[c] + 1));
@@ -385,33 +393,34 @@ int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency
         new_seeds.emplace_back(c, crease[c]);
       }
     }
-    // Worst faces first; ties by face id.
-    std::vector<int> order;
-    for (int f = 0; f < face_count; ++f)
-      if (wanted[label[f]] > 0 && error[f] > scale.max_fit_error) order.push_back(f);
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return error[a] > error[b]; });
-    std::vector<std::vector<int>> chosen(chart_count);
-    for (const int f : order) {
-      const int c = label[f];
-      if (static_cast<int>(chosen[c].size()) >= wanted[c] || f == charts[c].seed) continue;
-      bool spaced = (geometry.centroid[f] - geometry.centroid[charts[c].seed]).squaredNorm() >=
-                    spacing2[c];
-      for (const int g : chosen[c])
-        spaced = spaced && (geometry.centroid[f] - geometry.centroid[g]).squaredNorm() >= spacing2[c];
-      if (spaced) chosen[c].push_back(f);
-    }
-    for (int c = 0; c < chart_count; ++c) {
-      if (wanted[c] > 0 && chosen[c].empty()) chosen[c].push_back(worst[c]);
-      for (const int f : chosen[c]) new_seeds.emplace_back(c, f);
-    }
-    if (chart_count + static_cast<int>(new_seeds.size()) > max_charts)
-      new_seeds.resize(std::max(0, max_charts - chart_count));
   }
+  // Worst faces first; ties by face id.
+  std::vector<int> order;
+  for (int f = 0; f < face_count; ++f)
+    if (wanted[label[f]] > 0 && (forced > 0 || error[f] > scale.max_fit_error))
+      order.push_back(f);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return error[a] > error[b]; });
+  std::vector<std::vector<int>> chosen(chart_count);
+  for (const int f : order) {
+    const int c = label[f];
+    if (static_cast<int>(chosen[c].size()) >= wanted[c] || f == charts[c].seed) continue;
+    bool spaced = (geometry.centroid[f] - geometry.centroid[charts[c].seed]).squaredNorm() >=
+                  spacing2[c];
+    for (const int g : chosen[c])
+      spaced = spaced &&
+               (geometry.centroid[f] - geometry.centroid[g]).squaredNorm() >= spacing2[c];
+    if (spaced) chosen[c].push_back(f);
+  }
+  for (int c = 0; c < chart_count; ++c) {
+    if (wanted[c] > 0 && chosen[c].empty()) chosen[c].push_back(worst[c]);
+    for (const int f : chosen[c]) new_seeds.emplace_back(c, f);
+  }
+  if (chart_count + static_cast<int>(new_seeds.size()) > max_charts)
+    new_seeds.resize(std::max(0, max_charts - chart_count));
   std::vector<int> pieces(chart_count, 1);
   for (const auto& [c, seed] : new_seeds) ++pieces[c];
-  for (const auto& [c, seed] : new_seeds) {
+  for (const auto& [c, seed] : new_seeds)
     charts.push_back(chart_at(geometry, seed, fits[c].area / pieces[c]));
-  }
   for (int c = 0; c < chart_count; ++c) charts[c].area = fits[c].area / pieces[c];
   return static_cast<int>(new_seeds.size());
 }
@@ -595,14 +604,15 @@ std::vector<int> merge_fitting_charts(const FaceGeometry& geometry,
 }
 
 // Merges every chart smaller than min_patch_faces() faces or
-// kMinPatchAreaFraction of the area into its cheapest neighbour, smallest first.
+// kMinPatchAreaFraction of the area into its cheapest neighbour, smallest
+// first, while more than `fewest_charts` remain.
 std::vector<int> merge_small_charts(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
                                     const std::vector<int>& label, int chart_count,
-                                    const GrowthScale& scale) {
+                                    int fewest_charts, const GrowthScale& scale) {
   ChartMerger merger(geometry, adjacency, label, chart_count, scale);
   const int min_faces = min_patch_faces(static_cast<int>(label.size()));
   const double min_area = kMinPatchAreaFraction * geometry.total_area;
-  for (;;) {
+  while (merger.count() > fewest_charts) {
     int smallest = -1;
     for (int c = 0; c < chart_count; ++c) {
       if (!merger.alive(c) || !merger.has_neighbour(c)) continue;
@@ -699,17 +709,19 @@ std::vector<int> segment_mesh(const Positions& positions, const Triangles& trian
     }
   }
   std::vector<int> label;
-  lloyd(geometry, adjacency, scale, kSplitRounds, charts, label);
-  progress.report(0.05, kStage);
+  lloyd(geometry, adjacency, scale, kSplitRounds, progress, 0.05, charts, label);
 
   // Split until every chart fits (or is too small to split).
   const int max_charts =
       std::max(component_count, static_cast<int>(2.0 / kMinPatchAreaFraction));
   for (int iteration = 0; iteration < kMaxSplitIterations; ++iteration) {
     if (add_split_seeds(geometry, adjacency, scale, max_charts, 0, charts, label) == 0) break;
-    lloyd(geometry, adjacency, scale, kSplitRounds, charts, label);
-    progress.report(0.05 + 0.6 * (iteration + 1) / kMaxSplitIterations, kStage);
+    lloyd(geometry, adjacency, scale, kSplitRounds, progress,
+          0.05 + 0.6 * (iteration + 1) / kMaxSplitIterations, charts, label);
   }
+  const auto count_of = [](const std::vector<int>& labels) {
+    return *std::max_element(labels.begin(), labels.end()) + 1;
+  };
 
   if (options.target_patches > 0) {
     const int target = std::min(options.target_patches, face_count);
@@ -717,24 +729,24 @@ std::vector<int> segment_mesh(const Positions& positions, const Triangles& trian
       const int missing = target - static_cast<int>(charts.size());
       if (add_split_seeds(geometry, adjacency, scale, face_count, missing, charts, label) == 0)
         break;
-      lloyd(geometry, adjacency, scale, kSplitRounds, charts, label);
-      progress.report(0.7, kStage);
+      lloyd(geometry, adjacency, scale, kSplitRounds, progress, 0.7, charts, label);
     }
-    label = merge_to_count(geometry, adjacency, label, static_cast<int>(charts.size()), target,
-                           scale);
+    // Small charts go first (never below the target), then the cheapest pairs;
+    // no Lloyd round after the last merge, since it could starve a chart.
+    label = merge_small_charts(geometry, adjacency, label, count_of(label), target, scale);
     charts = charts_of(geometry, scale, label);
-    lloyd(geometry, adjacency, scale, kSettleRounds, charts, label);
+    lloyd(geometry, adjacency, scale, kSettleRounds, progress, 0.9, charts, label);
+    label = merge_small_charts(geometry, adjacency, label, count_of(label), target, scale);
+    label = merge_to_count(geometry, adjacency, label, count_of(label), target, scale);
     progress.report(1.0, kStage);
     return label;
   }
 
-  label = merge_fitting_charts(geometry, adjacency, label, static_cast<int>(charts.size()), scale);
-  label = merge_small_charts(geometry, adjacency, label, *std::max_element(label.begin(), label.end()) + 1, scale);
-  progress.report(0.75, kStage);
+  label = merge_fitting_charts(geometry, adjacency, label, count_of(label), scale);
+  label = merge_small_charts(geometry, adjacency, label, count_of(label), 1, scale);
   charts = charts_of(geometry, scale, label);
-  lloyd(geometry, adjacency, scale, kSettleRounds, charts, label);
-  progress.report(0.95, kStage);
-  label = merge_small_charts(geometry, adjacency, label, static_cast<int>(charts.size()), scale);
+  lloyd(geometry, adjacency, scale, kSettleRounds, progress, 0.9, charts, label);
+  label = merge_small_charts(geometry, adjacency, label, count_of(label), 1, scale);
   progress.report(1.0, kStage);
   return label;
 }

@@ -21,10 +21,17 @@ namespace {
 
 // Defaults and weights; docs/segmentation.md tells how they were measured.
 constexpr double kDefaultMaxFitError = 0.1;    // rad, area-weighted RMS
-constexpr double kCreaseAngle = 0.4363323129985824;  // 25 deg between neighbour normals
+// An edge whose face normals differ by more than this is a crease: a chart
+// holding one is split there. Above 22.5 deg so that a 16-sided cylinder is
+// not a fold of 16 planes; below 30 deg so that a sheet folded to 150 deg is.
+constexpr double kCreaseAngle = 0.4363323129985824;  // 25 deg
+// Scale of the normal jump in the growth and merge costs: smaller than
+// kCreaseAngle so that boundaries also follow the softer folds of a
+// piecewise developable model.
+constexpr double kFoldAngle = 0.2617993877991494;  // 15 deg
 constexpr double kCompactnessWeight = 0.5;
 constexpr double kBoundaryWeight = 1.0;
-constexpr double kCreaseWeight = 2.0;
+constexpr double kCreaseWeight = 10.0;
 constexpr int kMinPatchFaces = 20;
 constexpr double kMinPatchAreaFraction = 0.01;
 constexpr int kSplitRounds = 2;       // Lloyd rounds after each batch of new seeds
@@ -170,7 +177,7 @@ Chart chart_at(const FaceGeometry& geometry, int seed, double area) {
 //   (angle of n_f to c's cone / max_fit_error)^2           fitting
 // + kCompactnessWeight * pi |x_f - x_seed|^2 / area(c)     compactness
 // + kBoundaryWeight * (f's perimeter not on c) / perimeter  boundary straightness
-// + kCreaseWeight * (normal jump over the entry edge / kCreaseAngle)^2
+// + kCreaseWeight * (normal jump over the entry edge / kFoldAngle)^2
 // A face only joins through an edge with the chart, so every chart stays
 // edge-connected; every face is reached when each component holds a seed.
 std::vector<int> grow_charts(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
@@ -205,7 +212,7 @@ std::vector<int> grow_charts(const FaceGeometry& geometry, const FaceAdjacency& 
       const double fit = angle_to_cone(chart.cone, geometry.normal[g]) * inverse_tolerance;
       const double distance2 =
           (geometry.centroid[g] - geometry.centroid[chart.seed]).squaredNorm();
-      const double crease = adjacency.jump[f][i] / kCreaseAngle;
+      const double crease = adjacency.jump[f][i] / kFoldAngle;
       const float cost = static_cast<float>(fit * fit + kCompactnessWeight * M_PI * distance2 / chart.area +
                           kBoundaryWeight * (1.0 - inner / adjacency.perimeter[g]) +
                           kCreaseWeight * crease * crease);
@@ -427,7 +434,7 @@ int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency
 
 // Greedy merging of adjacent charts. Merge cost of charts a and b, unitless:
 //   (increase of the cone-fit residual) / ((area(a) + area(b)) max_fit_error^2)
-// + (mean normal jump along their shared border / kCreaseAngle)^2
+// + (mean normal jump along their shared border / kFoldAngle)^2
 // so that charts whose union still fits one cone and that meet smoothly go
 // first. Chart ids stay those of the input labelling; labels() renumbers.
 class ChartMerger {
@@ -469,7 +476,7 @@ class ChartMerger {
     NormalMoments merged = moments_[a];
     merged += moments_[b];
     const double increase = fit_cone(merged).residual - residual_[a] - residual_[b];
-    const double jump = border_jump(a, b) / kCreaseAngle;
+    const double jump = border_jump(a, b) / kFoldAngle;
     return std::max(increase, 0.0) /
                (merged.weight * scale_.max_fit_error * scale_.max_fit_error) +
            jump * jump;

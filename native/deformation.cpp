@@ -12,24 +12,24 @@ namespace {
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
-// The 11 x 9 matrix A_t of Eq. 3 (unknowns: v_i, v_j, v_k, xyz each).
-Eigen::Matrix<double, 11, 9> coupled_rows(const Eigen::Vector3d& target, double omega) {
-  Eigen::Matrix<double, 11, 9> a = Eigen::Matrix<double, 11, 9>::Zero();
-  const Eigen::RowVector3d n = omega * target.transpose();
-  a.block<1, 3>(0, 0) = -n;
-  a.block<1, 3>(0, 3) = n;
-  a.block<1, 3>(1, 0) = -n;
-  a.block<1, 3>(1, 6) = n;
+// A_t^T A_t of Eq. 3's 11 x 9 triangle matrix (unknowns v_i, v_j, v_k, xyz
+// each) in closed form: the 9 edge and centroid rows give the same 3 x 3
+// pattern in every coordinate, and the 2 normal rows add omega^2 n n^T
+// blocks with the pattern [[2, -1, -1], [-1, 1, 0], [-1, 0, 1]].
+Eigen::Matrix<double, 9, 9> coupled_normal_block(const Eigen::Matrix3d& shape,
+                                                  const Eigen::Vector3d& target, double omega) {
+  static const Eigen::Matrix3d normal_pattern =
+      (Eigen::Matrix3d() << 2.0, -1.0, -1.0, -1.0, 1.0, 0.0, -1.0, 0.0, 1.0).finished();
+  const Eigen::Matrix3d nn = omega * omega * target * target.transpose();
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
-  a.block<3, 3>(2, 0) = -identity;
-  a.block<3, 3>(2, 3) = identity;
-  a.block<3, 3>(5, 0) = -identity;
-  a.block<3, 3>(5, 6) = identity;
-  for (int c = 0; c < 3; ++c) a.block<3, 3>(8, 3 * c) = identity / 3.0;
-  return a;
+  Eigen::Matrix<double, 9, 9> block;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      block.block<3, 3>(3 * r, 3 * c) = shape(r, c) * identity + normal_pattern(r, c) * nn;
+  return block;
 }
 
-// The 3 x 3 scalar rows of the decoupled system: two edges and the centroid.
+// The 3 x 3 scalar rows shared by both systems: two edges and the centroid.
 Eigen::Matrix3d decoupled_rows() {
   Eigen::Matrix3d b;
   b << -1.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0;
@@ -168,11 +168,13 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles,
 
 void NormalGuidedDeformation::factor_coupled() {
   const Eigen::Index n = static_cast<Eigen::Index>(free_index_.size());
+  const Eigen::Matrix3d b = decoupled_rows();
+  const Eigen::Matrix3d shape = b.transpose() * b;
   Triplets free_free, free_pinned;
   free_free.reserve(static_cast<size_t>(triangles_.rows()) * 81);
   for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
-    const Eigen::Matrix<double, 11, 9> a = coupled_rows(targets_.row(f).transpose(), omega_);
-    const Eigen::Matrix<double, 9, 9> local = row_weights_[f] * (a.transpose() * a);
+    const Eigen::Matrix<double, 9, 9> local =
+        row_weights_[f] * coupled_normal_block(shape, targets_.row(f).transpose(), omega_);
     for (int r = 0; r < 9; ++r) {
       const int row_vertex = free_index_[static_cast<size_t>(triangles_(f, r / 3))];
       if (row_vertex < 0) continue;

@@ -17,9 +17,9 @@ struct Cone {
 // Weighted first and second moments of a set of unit normals: enough to fit a
 // cone, and additive, so that two sets merge without revisiting their faces.
 struct NormalMoments {
-  double weight = 0.0;                                  // sum of w
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();        // sum of w n
-  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();      // sum of w n n^T
+  double weight = 0.0;                              // sum of w
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();    // sum of w n
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();  // sum of w n n^T
 
   void add(const Eigen::Vector3d& normal, double w);
   NormalMoments& operator+=(const NormalMoments& other);

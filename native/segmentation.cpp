@@ -20,7 +20,7 @@ namespace developable {
 namespace {
 
 // Defaults and weights; docs/segmentation.md tells how they were measured.
-constexpr double kDefaultMaxFitError = 0.1;    // rad, area-weighted RMS
+constexpr double kDefaultMaxFitError = 0.1;  // rad, area-weighted RMS
 // An edge whose face normals differ by more than this is a crease: a chart
 // holding one is split there. Above 22.5 deg so that a 16-sided cylinder is
 // not a fold of 16 planes; below 30 deg so that a sheet folded to 150 deg is.
@@ -31,11 +31,11 @@ constexpr double kCreaseAngle = 0.4363323129985824;  // 25 deg
 constexpr double kFoldAngle = 0.2617993877991494;  // 15 deg
 constexpr double kCompactnessWeight = 0.5;
 constexpr double kBoundaryWeight = 1.0;
-constexpr double kCreaseWeight = 10.0;
+constexpr double kFoldWeight = 10.0;
 constexpr int kMinPatchFaces = 20;
 constexpr double kMinPatchAreaFraction = 0.01;
-constexpr int kSplitRounds = 2;       // Lloyd rounds after each batch of new seeds
-constexpr int kSettleRounds = 4;     // Lloyd rounds once the count is fixed
+constexpr int kSplitRounds = 2;   // Lloyd rounds after each batch of new seeds
+constexpr int kSettleRounds = 4;  // Lloyd rounds once the count is fixed
 constexpr int kMaxSplitIterations = 8;
 constexpr int kMaxSeedsPerSplit = 4;
 constexpr double kSettledFraction = 1e-3;
@@ -48,7 +48,7 @@ int min_patch_faces(int face_count) { return std::min(kMinPatchFaces, face_count
 
 // Per-face geometry, computed once.
 struct FaceGeometry {
-  std::vector<Eigen::Vector3d> normal;    // unit
+  std::vector<Eigen::Vector3d> normal;  // unit
   std::vector<double> area;
   std::vector<Eigen::Vector3d> centroid;
   double total_area = 0.0;
@@ -56,9 +56,9 @@ struct FaceGeometry {
 
 // Edge i of face f joins its corners i and (i + 1) % 3.
 struct FaceAdjacency {
-  std::vector<std::array<int, 3>> neighbour;     // -1 on a boundary edge
-  std::vector<std::array<double, 3>> length;     // edge length
-  std::vector<std::array<double, 3>> jump;       // angle between the two face normals, rad
+  std::vector<std::array<int, 3>> neighbour;  // -1 on a boundary edge
+  std::vector<std::array<double, 3>> length;  // edge length
+  std::vector<std::array<double, 3>> jump;    // angle between the two face normals, rad
   std::vector<double> perimeter;
 };
 
@@ -129,9 +129,9 @@ FaceAdjacency face_adjacency(const Positions& positions, const Triangles& triang
       adjacency.length[f][i] = (positions.row(a) - positions.row(b)).norm();
       adjacency.perimeter[f] += adjacency.length[f][i];
       adjacency.jump[f][i] =
-          across < 0 ? 0.0
-                     : std::acos(std::clamp(geometry.normal[f].dot(geometry.normal[across]),
-                                            -1.0, 1.0));
+          across < 0
+              ? 0.0
+              : std::acos(std::clamp(geometry.normal[f].dot(geometry.normal[across]), -1.0, 1.0));
     }
   }
   return adjacency;
@@ -177,7 +177,7 @@ Chart chart_at(const FaceGeometry& geometry, int seed, double area) {
 //   (angle of n_f to c's cone / max_fit_error)^2           fitting
 // + kCompactnessWeight * pi |x_f - x_seed|^2 / area(c)     compactness
 // + kBoundaryWeight * (f's perimeter not on c) / perimeter  boundary straightness
-// + kCreaseWeight * (normal jump over the entry edge / kFoldAngle)^2
+// + kFoldWeight * (normal jump over the entry edge / kFoldAngle)^2
 // A face only joins through an edge with the chart, so every chart stays
 // edge-connected; every face is reached when each component holds a seed.
 std::vector<int> grow_charts(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
@@ -190,8 +190,7 @@ std::vector<int> grow_charts(const FaceGeometry& geometry, const FaceAdjacency& 
   // fall back to the face id, which keeps the growth deterministic.
   std::vector<float> queued_cost(face_count, HUGE_VALF);
   std::vector<int> queued_chart(face_count, -1);
-  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>>
-      front;
+  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>> front;
   const auto key = [](float cost, int face) {
     std::uint32_t bits;
     std::memcpy(&bits, &cost, sizeof bits);
@@ -210,12 +209,11 @@ std::vector<int> grow_charts(const FaceGeometry& geometry, const FaceAdjacency& 
         if (h >= 0 && label[h] == c) inner += adjacency.length[g][k];
       }
       const double fit = angle_to_cone(chart.cone, geometry.normal[g]) * inverse_tolerance;
-      const double distance2 =
-          (geometry.centroid[g] - geometry.centroid[chart.seed]).squaredNorm();
-      const double crease = adjacency.jump[f][i] / kFoldAngle;
-      const float cost = static_cast<float>(fit * fit + kCompactnessWeight * M_PI * distance2 / chart.area +
-                          kBoundaryWeight * (1.0 - inner / adjacency.perimeter[g]) +
-                          kCreaseWeight * crease * crease);
+      const double distance2 = (geometry.centroid[g] - geometry.centroid[chart.seed]).squaredNorm();
+      const double fold = adjacency.jump[f][i] / kFoldAngle;
+      const float cost = static_cast<float>(
+          fit * fit + kCompactnessWeight * M_PI * distance2 / chart.area +
+          kBoundaryWeight * (1.0 - inner / adjacency.perimeter[g]) + kFoldWeight * fold * fold);
       if (cost < queued_cost[g]) {
         queued_cost[g] = cost;
         queued_chart[g] = c;
@@ -337,10 +335,10 @@ std::vector<int> crease_faces(const FaceGeometry& geometry, const FaceAdjacency&
       const int c = label[f];
       sharpest[c] = adjacency.jump[f][i];
       const Eigen::Vector3d seed = geometry.centroid[charts[c].seed];
-      face[c] = (geometry.centroid[f] - seed).squaredNorm() >=
-                        (geometry.centroid[g] - seed).squaredNorm()
-                    ? f
-                    : g;
+      face[c] =
+          (geometry.centroid[f] - seed).squaredNorm() >= (geometry.centroid[g] - seed).squaredNorm()
+              ? f
+              : g;
     }
   }
   return face;
@@ -392,7 +390,8 @@ int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency
       if (rms[c] > scale.max_fit_error && worst[c] >= 0) {
         const double ratio = rms[c] / scale.max_fit_error;
         const int by_size = std::min(fits[c].face_count / std::max(min_faces, 1),
-                                     static_cast<int>(fits[c].area / min_area)) - 1;
+                                     static_cast<int>(fits[c].area / min_area)) -
+                            1;
         wanted[c] = std::clamp(static_cast<int>(std::ceil(ratio * ratio)) - 1, 1,
                                std::min(kMaxSeedsPerSplit, by_size));
         spacing2[c] = fits[c].area / (M_PI * (wanted[c] + 1));
@@ -404,18 +403,16 @@ int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency
   // Worst faces first; ties by face id.
   std::vector<int> order;
   for (int f = 0; f < face_count; ++f)
-    if (wanted[label[f]] > 0 && (forced > 0 || error[f] > scale.max_fit_error))
-      order.push_back(f);
+    if (wanted[label[f]] > 0 && (forced > 0 || error[f] > scale.max_fit_error)) order.push_back(f);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return error[a] > error[b]; });
   std::vector<std::vector<int>> chosen(chart_count);
   for (const int f : order) {
     const int c = label[f];
     if (static_cast<int>(chosen[c].size()) >= wanted[c] || f == charts[c].seed) continue;
-    bool spaced = (geometry.centroid[f] - geometry.centroid[charts[c].seed]).squaredNorm() >=
-                  spacing2[c];
+    bool spaced =
+        (geometry.centroid[f] - geometry.centroid[charts[c].seed]).squaredNorm() >= spacing2[c];
     for (const int g : chosen[c])
-      spaced = spaced &&
-               (geometry.centroid[f] - geometry.centroid[g]).squaredNorm() >= spacing2[c];
+      spaced = spaced && (geometry.centroid[f] - geometry.centroid[g]).squaredNorm() >= spacing2[c];
     if (spaced) chosen[c].push_back(f);
   }
   for (int c = 0; c < chart_count; ++c) {
@@ -441,9 +438,15 @@ class ChartMerger {
  public:
   ChartMerger(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
               const std::vector<int>& label, int chart_count, const GrowthScale& scale)
-      : geometry_(geometry), label_(label), scale_(scale), parent_(chart_count),
-        alive_(chart_count, true), moments_(chart_count), faces_(chart_count),
-        borders_(chart_count), count_(chart_count) {
+      : geometry_(geometry),
+        label_(label),
+        scale_(scale),
+        parent_(chart_count),
+        alive_(chart_count, true),
+        moments_(chart_count),
+        faces_(chart_count),
+        borders_(chart_count),
+        count_(chart_count) {
     for (int c = 0; c < chart_count; ++c) parent_[c] = c;
     for (int f = 0; f < static_cast<int>(label.size()); ++f) {
       moments_[label[f]].add(geometry.normal[f], geometry.area[f]);
@@ -477,8 +480,7 @@ class ChartMerger {
     merged += moments_[b];
     const double increase = fit_cone(merged).residual - residual_[a] - residual_[b];
     const double jump = border_jump(a, b) / kFoldAngle;
-    return std::max(increase, 0.0) /
-               (merged.weight * scale_.max_fit_error * scale_.max_fit_error) +
+    return std::max(increase, 0.0) / (merged.weight * scale_.max_fit_error * scale_.max_fit_error) +
            jump * jump;
   }
 
@@ -581,8 +583,7 @@ class ChartMerger {
 // Merges adjacent charts whose union still fits (ChartMerger::union_fits),
 // cheapest first: undoes splits that Lloyd rounds made unnecessary and seeds
 // that landed on a piece another chart already fits.
-std::vector<int> merge_fitting_charts(const FaceGeometry& geometry,
-                                      const FaceAdjacency& adjacency,
+std::vector<int> merge_fitting_charts(const FaceGeometry& geometry, const FaceAdjacency& adjacency,
                                       const std::vector<int>& label, int chart_count,
                                       const GrowthScale& scale) {
   ChartMerger merger(geometry, adjacency, label, chart_count, scale);
@@ -719,8 +720,7 @@ std::vector<int> segment_mesh(const Positions& positions, const Triangles& trian
   lloyd(geometry, adjacency, scale, kSplitRounds, progress, 0.05, charts, label);
 
   // Split until every chart fits (or is too small to split).
-  const int max_charts =
-      std::max(component_count, static_cast<int>(2.0 / kMinPatchAreaFraction));
+  const int max_charts = std::max(component_count, static_cast<int>(2.0 / kMinPatchAreaFraction));
   for (int iteration = 0; iteration < kMaxSplitIterations; ++iteration) {
     if (add_split_seeds(geometry, adjacency, scale, max_charts, 0, charts, label) == 0) break;
     lloyd(geometry, adjacency, scale, kSplitRounds, progress,

@@ -1,0 +1,146 @@
+"""Runs one benchmark case in its own process (so that its peak memory is its
+own) and prints one JSON object on stdout.
+
+    python3 bench/worker.py '<json case>'
+
+case: {"mesh": {...} (see meshes.load), "params": {engine dev_params fields},
+       "library": path to libdevelopable.so, "compare": null | "COMMAND {in} {out}",
+       "hausdorff": true}"""
+import ctypes
+import json
+import math
+import os
+import pathlib
+import resource
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parent / "tests"))
+import hausdorff  # noqa: E402
+import meshes  # noqa: E402
+import metrics  # noqa: E402
+
+
+def status_kib(field):
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(field + ":"):
+                return int(line.split()[1])
+    return -1
+
+
+def reset_peak():
+    """Linux: writing 5 to clear_refs resets VmHWM to the current RSS."""
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+        return True
+    except OSError:
+        return False
+
+
+def write_obj(path, positions, triangles):
+    with open(path, "w") as f:
+        np.savetxt(f, positions, fmt="v %.17g %.17g %.17g")
+        np.savetxt(f, triangles + 1, fmt="f %d %d %d")
+
+
+def run_engine(case, positions, triangles):
+    import engine as engine_module
+    eng = engine_module.Engine(case["library"])
+    marks = []
+
+    def progress(fraction, stage, user):
+        name = stage.decode() if stage else ""
+        if not marks or marks[-1][1] != name:
+            marks.append((time.perf_counter(), name))
+        return 1
+
+    pinned = None
+    params = dict(case.get("params", {}))
+    rss0 = status_kib("VmRSS")
+    peak_reset = reset_peak()
+    t0 = time.perf_counter()
+    try:
+        result = eng.run(positions, triangles, pinned=pinned, progress=progress, **params)
+    except engine_module.EngineError as error:
+        return {"error": str(error)}
+    wall = time.perf_counter() - t0
+    peak = status_kib("VmHWM") if peak_reset else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    marks.append((t0 + wall, "end"))
+    stages = {}
+    for (start, name), (stop, _) in zip(marks, marks[1:]):
+        stages[name] = stages.get(name, 0.0) + 1000.0 * (stop - start)
+    s = result.stats
+    return {
+        "out_positions": result.positions,
+        "engine_stats": {k: (v if not isinstance(v, float) or math.isfinite(v) else None)
+                         for k, v in s.items()},
+        "t_D": s["time_decompose_ms"], "t_I": s["time_iterate_ms"], "t_T": s["time_total_ms"],
+        "wall_ms": 1000.0 * wall, "rss_before_mib": rss0 / 1024.0, "peak_mib": peak / 1024.0,
+        "iterations": s["iterations"], "stop_reason": s["stop_reason"], "patches": s["patches"],
+        "stages_ms": stages,
+    }
+
+
+def run_compare(case, positions, triangles):
+    with tempfile.TemporaryDirectory(prefix="bench-compare-") as tmp:
+        src, dst = os.path.join(tmp, "in.obj"), os.path.join(tmp, "out.obj")
+        write_obj(src, positions, triangles)
+        command = case["compare"].replace("{in}", shlex.quote(src)).replace("{out}", shlex.quote(dst))
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(command, shell=True, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.PIPE)
+        _, err = proc.communicate(timeout=case.get("timeout", 3600))
+        wall = time.perf_counter() - t0
+        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss  # KiB, largest child
+        if proc.returncode != 0 or not os.path.exists(dst):
+            return {"error": "exit %d: %s" % (proc.returncode, err.decode(errors="replace")[-300:])}
+        out_pos, out_tri = meshes.meshgen.read_obj(dst)
+    return {"out_positions": out_pos, "out_triangles": out_tri, "t_T": 1000.0 * wall,
+            "wall_ms": 1000.0 * wall, "peak_mib": peak / 1024.0}
+
+
+def main():
+    case = json.loads(sys.argv[1])
+    t0 = time.perf_counter()
+    positions, triangles = meshes.load(case["mesh"])
+    row = {"v": int(len(positions)), "f": int(len(triangles)),
+           "mesh_seconds": time.perf_counter() - t0}
+    run = run_compare(case, positions, triangles) if case.get("compare") else \
+        run_engine(case, positions, triangles)
+    if "error" in run:
+        row.update(run)
+        print(json.dumps(row))
+        return
+    out_pos = run.pop("out_positions")
+    out_tri = run.pop("out_triangles", triangles)
+    row.update(run)
+    before = metrics.defect_summary(positions, triangles)
+    after = metrics.defect_summary(out_pos, out_tri)
+    row.update({
+        "AE": metrics.average_edge_length(positions, triangles),
+        "mean_before": before["mean"], "max_before": before["max"], "flat_before": before["flat"],
+        "mean_after": after["mean"], "max_after": after["max"], "flat_after": after["flat"],
+    })
+    row["dE"] = 100.0 * (after["mean"] - before["mean"]) / before["mean"] if before["mean"] else 0.0
+    row["out_v"], row["out_f"] = int(len(out_pos)), int(len(out_tri))
+    diag = float(np.linalg.norm(positions.max(0) - positions.min(0)))
+    row["max_move"] = float(np.linalg.norm(out_pos - positions, axis=1).max()) \
+        if len(out_pos) == len(positions) else None
+    if case.get("hausdorff", True):
+        t1 = time.perf_counter()
+        row["hausdorff"] = hausdorff.hausdorff(positions, triangles, out_pos, out_tri) / diag
+        row["hausdorff_seconds"] = time.perf_counter() - t1
+    print(json.dumps(row))
+
+
+if __name__ == "__main__":
+    main()

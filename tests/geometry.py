@@ -1,5 +1,6 @@
-"""Exact distances between triangle meshes, for quality bounds (numpy only)."""
+"""Exact distances between triangle meshes, for quality bounds (numpy, scipy)."""
 import numpy as np
+from scipy.spatial import cKDTree
 
 
 def _dot(x, y):
@@ -54,37 +55,34 @@ def samples(positions, triangles):
     return np.concatenate([positions, mids, tri.mean(axis=1)])
 
 
-def one_sided(points, positions, triangles, chunk=512, candidates=24):
+def one_sided(points, positions, triangles, candidates=8):
     """max over points of the exact distance to the nearest triangle.
 
-    Triangles are ranked by the distance to their bounding box (a lower bound);
-    the exact distance to the nearest `candidates` decides, and a point whose
-    answer is not below the next lower bound is checked against all."""
+    The triangles whose centroids are nearest are tried first; a triangle t
+    farther than |p - centroid_t| - radius_t cannot be nearer, so a point whose
+    answer beats that bound for every untried triangle is done, and the few
+    others are checked against every triangle within reach."""
     tri = positions[triangles]
-    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    centroids = tri.mean(axis=1)
+    radius = np.linalg.norm(tri - centroids[:, None], axis=2).max()
+    tree = cKDTree(centroids)
     k = min(candidates, len(tri))
-    worst = 0.0
-    for start in range(0, len(points), chunk):
-        p = points[start:start + chunk]
-        gap = np.maximum(np.maximum(lo[None] - p[:, None], p[:, None] - hi[None]), 0)
-        box = np.einsum("ijk,ijk->ij", gap, gap)
-        nearest = np.argpartition(box, k - 1, axis=1)[:, :k] if k < len(tri) else \
-            np.tile(np.arange(len(tri)), (len(p), 1))
-        exact = np.full(len(p), np.inf)
-        for column in range(nearest.shape[1]):
-            j = nearest[:, column]
-            exact = np.minimum(exact, _distance_rows(p, tri[j]))
-        if k < len(tri):
-            bound = np.sqrt(np.partition(box, k, axis=1)[:, k])
-            for row in np.nonzero(exact > bound)[0]:
-                exact[row] = min(point_triangle_distance(p[row:row + 1], *t)[0] for t in tri)
-        worst = max(worst, float(exact.max()))
-    return worst
-
-
-def _distance_rows(points, triangles):
-    """Distance from points[i] to triangles[i], row by row."""
-    return point_triangle_distance(points, triangles[:, 0], triangles[:, 1], triangles[:, 2])
+    reach, nearest = tree.query(points, k=k)
+    reach, nearest = reach.reshape(len(points), k), nearest.reshape(len(points), k)
+    exact = np.full(len(points), np.inf)
+    for column in range(k):
+        t = tri[nearest[:, column]]
+        exact = np.minimum(exact, point_triangle_distance(points, t[:, 0], t[:, 1], t[:, 2]))
+    if k < len(tri):
+        rows = np.nonzero(exact > reach[:, -1] - radius)[0]
+        for start in range(0, len(rows), 4096):
+            chunk = rows[start:start + 4096]
+            near = tree.query_ball_point(points[chunk], exact[chunk] + radius)
+            owner = np.repeat(chunk, [len(n) for n in near])
+            t = tri[np.concatenate(near).astype(np.int64)]
+            d = point_triangle_distance(points[owner], t[:, 0], t[:, 1], t[:, 2])
+            np.minimum.at(exact, owner, d)
+    return float(exact.max())
 
 
 def hausdorff(pos_a, tri_a, pos_b, tri_b):

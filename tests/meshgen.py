@@ -93,3 +93,33 @@ def read_obj(path):
                 for k in range(1, len(idx) - 1):
                     tris.append([idx[0], idx[k], idx[k + 1]])
     return np.array(pos, dtype=np.float64), np.array(tris, dtype=np.int32)
+
+
+def folded_sheet(rows=12, cols=15, angle_degrees=90.0, size=2.0):
+    """A square sheet folded along the straight line x = size / 2 (two planes
+    meeting at `angle_degrees`); with an odd `cols` the crease runs along a
+    column of edges."""
+    pos, tris = plane(rows=rows, cols=cols, size=size)
+    fold = size / 2
+    turn = np.radians(180.0 - angle_degrees)
+    beyond = pos[:, 0] > fold
+    d = pos[beyond, 0] - fold
+    pos[beyond, 0] = fold + d * np.cos(turn)
+    pos[beyond, 2] = d * np.sin(turn)
+    return pos, tris
+
+
+def cylinder_cone(rows_each=8, cols=40, radius=1.0, height=1.0, apex_height=1.2):
+    """A cylinder of `height` joined along its top ring to a cone frustum that
+    narrows to half the radius: two developable pieces meeting at a circle.
+    Returns positions, triangles and the per-face piece (0 cylinder, 1 cone)."""
+    t = np.linspace(0, 2 * np.pi, cols, endpoint=False)
+    rings = []
+    for s in np.linspace(0, 1, rows_each):
+        rings.append((radius, height * s))
+    for s in np.linspace(0, 1, rows_each)[1:]:
+        rings.append((radius * (1 - 0.5 * s), height + apex_height * 0.5 * s))
+    pos = np.array([[r * np.cos(a), r * np.sin(a), z] for r, z in rings for a in t])
+    tris = grid_triangles(len(rings), cols, wrap=True)
+    piece = np.repeat((np.arange(len(rings) - 1) >= rows_each - 1).astype(int), 2 * cols)
+    return pos, tris, piece

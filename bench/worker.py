@@ -13,6 +13,7 @@ import os
 import pathlib
 import resource
 import shlex
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -95,12 +96,20 @@ def run_compare(case, positions, triangles):
         src, dst = os.path.join(tmp, "in.obj"), os.path.join(tmp, "out.obj")
         write_obj(src, positions, triangles)
         command = case["compare"].replace("{in}", shlex.quote(src)).replace("{out}", shlex.quote(dst))
+        # A child forked from this Python process starts with its RSS counted in
+        # ru_maxrss; GNU time forks the command from a small process instead.
+        gnu_time = shutil.which("time") if os.path.exists("/usr/bin/time") else None
+        rss_file = os.path.join(tmp, "maxrss")
+        argv = [gnu_time, "-f", "%M", "-o", rss_file, "sh", "-c", command] if gnu_time else \
+            ["sh", "-c", command]
         t0 = time.perf_counter()
-        proc = subprocess.Popen(command, shell=True, stdout=subprocess.DEVNULL,
-                                stderr=subprocess.PIPE)
+        proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         _, err = proc.communicate(timeout=case.get("timeout", 3600))
         wall = time.perf_counter() - t0
-        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss  # KiB, largest child
+        try:
+            peak = int(open(rss_file).read().split()[-1])  # KiB
+        except (OSError, ValueError, IndexError):
+            peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss  # upper bound
         if proc.returncode != 0 or not os.path.exists(dst):
             return {"error": "exit %d: %s" % (proc.returncode, err.decode(errors="replace")[-300:])}
         out_pos, out_tri = meshes.meshgen.read_obj(dst)

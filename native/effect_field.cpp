@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace developable {
@@ -45,6 +46,84 @@ std::vector<double> nearest_source_gaps(const EffectField& field, const std::vec
     if (std::isfinite(best2)) gaps.push_back(std::sqrt(best2));
   }
   return gaps;
+}
+
+// The single-linkage distance at which the points become a few comparable
+// pieces. Sources are joined shortest gap first (Kruskal over the pairs of
+// sources whose grid Voronoi regions touch, which hold the Euclidean minimum
+// spanning tree) until the effective number of pieces, (sum of weights)^2 /
+// sum of (piece weight)^2, is at most `pieces`. An outlier barely counts (its
+// weight is small); a curve whose normals have clumped into clusters counts
+// as many pieces until the gaps between its clusters are bridged; two
+// separate curves of similar weight count as two. Chart units; 0 when the
+// sources are already few enough pieces.
+double linking_distance(const EffectField& field, const std::vector<int>& cell_source, double pieces) {
+  const int n = field.resolution;
+  const size_t cells = static_cast<size_t>(n) * n;
+  std::vector<int> label(cells, -1);
+  std::vector<int> queue;
+  queue.reserve(cells);
+  for (size_t c = 0; c < cells; ++c) {
+    if (cell_source[c] >= 0) {
+      label[c] = cell_source[c];
+      queue.push_back(static_cast<int>(c));
+    }
+  }
+  for (size_t head = 0; head < queue.size(); ++head) {
+    const int c = queue[head];
+    const int ix = c % n, iy = c / n;
+    const int next[4] = {ix > 0 ? c - 1 : -1, ix + 1 < n ? c + 1 : -1, iy > 0 ? c - n : -1, iy + 1 < n ? c + n : -1};
+    for (int m : next) {
+      if (m >= 0 && label[m] < 0) {
+        label[m] = label[c];
+        queue.push_back(m);
+      }
+    }
+  }
+  std::vector<uint64_t> pairs;
+  auto touch = [&](int a, int b) {
+    if (a != b) pairs.push_back(static_cast<uint64_t>(std::min(a, b)) << 32 | static_cast<uint32_t>(std::max(a, b)));
+  };
+  for (int iy = 0; iy < n; ++iy) {
+    for (int ix = 0; ix < n; ++ix) {
+      const size_t c = static_cast<size_t>(iy) * n + ix;
+      if (ix + 1 < n) touch(label[c], label[c + 1]);
+      if (iy + 1 < n) touch(label[c], label[c + n]);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  std::vector<std::pair<double, uint64_t>> edges;
+  edges.reserve(pairs.size());
+  for (uint64_t p : pairs) {
+    const int a = static_cast<int>(p >> 32), b = static_cast<int>(p & 0xffffffffu);
+    edges.emplace_back((field.sources[a].position - field.sources[b].position).squaredNorm(), p);
+  }
+  std::sort(edges.begin(), edges.end());
+  const size_t count = field.sources.size();
+  std::vector<int> parent(count);
+  std::vector<double> weight(count);
+  double total = 0.0, sum_sq = 0.0;
+  for (size_t i = 0; i < count; ++i) {
+    parent[i] = static_cast<int>(i);
+    weight[i] = field.sources[i].weight;
+    total += weight[i];
+    sum_sq += weight[i] * weight[i];
+  }
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  if (!(sum_sq > 0.0) || total * total <= pieces * sum_sq) return 0.0;
+  for (const auto& [d2, p] : edges) {
+    const int a = find(static_cast<int>(p >> 32)), b = find(static_cast<int>(p & 0xffffffffu));
+    if (a == b) continue;
+    sum_sq += 2.0 * weight[a] * weight[b];
+    weight[std::min(a, b)] += weight[std::max(a, b)];
+    parent[std::max(a, b)] = std::min(a, b);
+    if (total * total <= pieces * sum_sq) return std::sqrt(d2);
+  }
+  return 0.0;
 }
 
 // Weighted RMS thickness of the points at scale `radius`: per source, the
@@ -217,9 +296,10 @@ EffectField compute_effect_field(const ChartPoints& points, const Eigen::VectorX
       std::nth_element(gaps.begin(), gaps.begin() + k, gaps.end());
       g90 = gaps[k];
     }
+    const double linked = linking_distance(field, cell_source, 4.0);
     const double lower = 3.0 * h;
     const double upper = std::max(0.25 * extent, lower);
-    radius = std::min(upper, std::max(lower, std::max(0.05 * extent, 1.5 * g90)));
+    radius = std::min(upper, std::max(lower, std::max({0.08 * extent, 1.5 * g90, 2.0 * linked})));
     // Wider than three times the across-curve scatter, so the field is one
     // ridge across a noisy curve (and one smooth bump on a noisy plane)
     // rather than a ridge per clump of noise. The scatter measured depends on

@@ -223,9 +223,9 @@ class ChartNearest {
   std::vector<Group> groups_;
 };
 
-// Control points: about one per two effect radii of curve, 4 (6 closed) to 16.
+// Control points: about one per effect radius of curve, 4 (6 closed) to 16.
 int control_count(double length, double radius, bool closed) {
-  const double wanted = radius > 0.0 ? std::round(length / (2.0 * radius)) : 16.0;
+  const double wanted = radius > 0.0 ? std::round(length / radius) : 16.0;
   return static_cast<int>(std::min(16.0, std::max(closed ? 6.0 : 4.0, wanted)));
 }
 

@@ -69,6 +69,157 @@ double path_length(const std::vector<Eigen::Vector2d>& pts) {
   return length;
 }
 
+// A path of ridge points on its way to becoming a SkeletonCurve.
+struct Candidate {
+  std::vector<Eigen::Vector2d> points;
+  double length = 0.0;
+  bool closed = false;
+};
+
+// Closed when the gap between the ends is like a step along the path (a ring
+// whose MST dropped one edge) or small against the length.
+bool closes(const Candidate& c, double link_distance) {
+  double longest_step = 0.0;
+  for (size_t k = 1; k < c.points.size(); ++k) {
+    longest_step = std::max(longest_step, (c.points[k] - c.points[k - 1]).norm());
+  }
+  const double gap = (c.points.front() - c.points.back()).norm();
+  return c.points.size() >= 4 && c.length >= 3.0 * gap &&
+         gap <= std::max(std::min(2.0 * link_distance, 1.5 * longest_step), 0.08 * c.length);
+}
+
+// Unit direction in which a path leaves through its back end, from the
+// point `reach` (path length) before that end; 0 for a path of no length.
+Eigen::Vector2d leaving_direction(const std::vector<Eigen::Vector2d>& pts, double reach) {
+  const Eigen::Vector2d& end = pts.back();
+  double walked = 0.0;
+  size_t k = pts.size() - 1;
+  while (k > 0 && walked < reach) {
+    walked += (pts[k] - pts[k - 1]).norm();
+    --k;
+  }
+  const Eigen::Vector2d d = end - pts[k];
+  const double length = d.norm();
+  return length > 0.0 ? Eigen::Vector2d(d / length) : Eigen::Vector2d::Zero();
+}
+
+// Whether the back end of path a continues into the front end of path b: the
+// gap is at most join_distance, the paths run the same way (within 60
+// degrees), and b starts ahead of a's end along a's direction (an overlap up
+// to one link is allowed) and within one link, or 30 degrees, of that line;
+// and the same seen from b. Ends are given with their leaving directions
+// (ta leaves a forward, tb leaves b backward).
+bool continues(const Eigen::Vector2d& pa, const Eigen::Vector2d& ta, const Eigen::Vector2d& pb,
+               const Eigen::Vector2d& tb, double link_distance, double join_distance) {
+  const Eigen::Vector2d gap = pb - pa;
+  if (gap.norm() > join_distance || ta.dot(-tb) < 0.5) return false;
+  auto ahead = [&](const Eigen::Vector2d& t, const Eigen::Vector2d& g) {
+    const double along = g.dot(t);
+    const double lateral = (g - along * t).norm();
+    return along >= -link_distance && lateral <= std::max(link_distance, 0.58 * along);
+  };
+  return ahead(ta, gap) && ahead(tb, -gap);
+}
+
+// Chains open paths whose ends continue each other (continues()), shortest
+// gaps first, each end used once; a chain whose own ends then meet is
+// closed by the closure rule. A curve whose ridge broke into pieces (its
+// Gauss image thinned into clusters between which the field dips) is one
+// curve again. Points of a piece that fall behind the end it continues are
+// dropped, so an overlap does not fold the chain back.
+std::vector<Candidate> join_pieces(std::vector<Candidate> pieces, double link_distance, double join_distance) {
+  std::vector<Candidate> out;
+  std::vector<int> open;
+  for (int i = 0; i < static_cast<int>(pieces.size()); ++i) {
+    if (pieces[i].closed) out.push_back(std::move(pieces[i]));
+    else open.push_back(i);
+  }
+  // End 2k is the front of piece open[k], 2k+1 its back; each with its
+  // position and the direction in which the path leaves through it.
+  const int ends = 2 * static_cast<int>(open.size());
+  std::vector<Eigen::Vector2d> end_point(ends), end_leaving(ends);
+  const double reach = join_distance;
+  for (int k = 0; k < static_cast<int>(open.size()); ++k) {
+    std::vector<Eigen::Vector2d> pts = pieces[open[k]].points;
+    end_point[2 * k + 1] = pts.back();
+    end_leaving[2 * k + 1] = leaving_direction(pts, reach);
+    std::reverse(pts.begin(), pts.end());
+    end_point[2 * k] = pts.back();
+    end_leaving[2 * k] = leaving_direction(pts, reach);
+  }
+  std::vector<Edge> joins;
+  for (int e = 0; e < ends; ++e) {
+    for (int f = e + 1; f < ends; ++f) {
+      if (e / 2 == f / 2) continue;
+      if (continues(end_point[e], end_leaving[e], end_point[f], end_leaving[f], link_distance, join_distance)) {
+        joins.push_back({(end_point[f] - end_point[e]).norm(), e, f});
+      }
+    }
+  }
+  std::sort(joins.begin(), joins.end());
+  std::vector<int> partner(ends, -1);
+  UnionFind chains(static_cast<int>(open.size()));
+  for (const Edge& j : joins) {
+    if (partner[j.a] >= 0 || partner[j.b] >= 0 || !chains.unite(j.a / 2, j.b / 2)) continue;
+    partner[j.a] = j.b;
+    partner[j.b] = j.a;
+  }
+  // Walk each chain from a free end.
+  std::vector<char> used(open.size(), 0);
+  for (int start = 0; start < ends; ++start) {
+    if (partner[start] >= 0 || used[start / 2]) continue;
+    Candidate chain;
+    for (int e = start; e >= 0;) {
+      const int k = e / 2;
+      used[k] = 1;
+      std::vector<Eigen::Vector2d> pts = std::move(pieces[open[k]].points);
+      if (e % 2 == 1) std::reverse(pts.begin(), pts.end());  // enter through end e
+      size_t first = 0;
+      if (!chain.points.empty()) {
+        const Eigen::Vector2d end = chain.points.back();
+        const Eigen::Vector2d t = leaving_direction(chain.points, reach);
+        while (first + 2 < pts.size() && (pts[first] - end).dot(t) < 0.0) ++first;
+      }
+      chain.points.insert(chain.points.end(), pts.begin() + static_cast<std::ptrdiff_t>(first), pts.end());
+      const int exit = e ^ 1;
+      e = partner[exit];
+    }
+    chain.length = path_length(chain.points);
+    chain.closed = closes(chain, link_distance);
+    out.push_back(std::move(chain));
+  }
+  return out;
+}
+
+// Distance from p to the polyline (closed: with its closing segment).
+double distance_to(const Eigen::Vector2d& p, const SkeletonCurve& curve) {
+  const auto& pts = curve.points;
+  double best2 = (p - pts.front()).squaredNorm();
+  const size_t segs = curve.closed ? pts.size() : pts.size() - 1;
+  for (size_t s = 0; s < segs; ++s) {
+    const Eigen::Vector2d& a = pts[s];
+    const Eigen::Vector2d ab = pts[(s + 1) % pts.size()] - a;
+    const double len2 = ab.squaredNorm();
+    const double f = len2 > 0.0 ? std::min(1.0, std::max(0.0, (p - a).dot(ab) / len2)) : 0.0;
+    best2 = std::min(best2, (a + f * ab - p).squaredNorm());
+  }
+  return std::sqrt(best2);
+}
+
+// Whether at least half of the points lie within `distance` of a curve.
+bool shadowed(const std::vector<Eigen::Vector2d>& pts, const std::vector<SkeletonCurve>& curves, double distance) {
+  size_t near = 0;
+  for (const auto& p : pts) {
+    for (const auto& c : curves) {
+      if (distance_to(p, c) <= distance) {
+        ++near;
+        break;
+      }
+    }
+  }
+  return 2 * near >= pts.size();
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector2d> find_ridge_points(const EffectField& field, double min_field_fraction) {
@@ -127,8 +278,8 @@ std::vector<Eigen::Vector2d> find_ridge_points(const EffectField& field, double 
 }
 
 std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>& points,
-                                              double link_distance, double min_branch_fraction,
-                                              double min_length) {
+                                              double link_distance, double join_distance,
+                                              double min_branch_fraction, double min_length) {
   if (!(link_distance > 0.0) || !std::isfinite(link_distance)) {
     throw EngineError(Status::invalid_argument, "skeleton: link_distance must be finite and > 0");
   }
@@ -199,12 +350,7 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
   }
 
   // Per component: the longest path, then hanging branches.
-  struct Candidate {
-    std::vector<Eigen::Vector2d> points;
-    double length;
-    bool closed;
-  };
-  std::vector<Candidate> found;
+  std::vector<Candidate> pieces, branches;
   std::vector<char> blocked(count, 0), seen(count, 0);
   std::vector<int> parent(count, -1);
   std::vector<double> dist(count, 0.0);
@@ -232,15 +378,7 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
     Candidate c;
     for (int u : main) c.points.push_back(points[u]);
     c.length = path_length(c.points);
-    // Closed when the gap between the ends is like a step along the path
-    // (a ring whose MST dropped one edge) or small against the length.
-    double longest_step = 0.0;
-    for (size_t k = 1; k < c.points.size(); ++k) {
-      longest_step = std::max(longest_step, (c.points[k] - c.points[k - 1]).norm());
-    }
-    const double gap = (c.points.front() - c.points.back()).norm();
-    c.closed = c.points.size() >= 4 && c.length >= 3.0 * gap &&
-               gap <= std::max(std::min(2.0 * link_distance, 1.5 * longest_step), 0.08 * c.length);
+    c.closed = closes(c, link_distance);
     // Branches: subtrees hanging off the main path, measured from the junction.
     for (int u : main) blocked[u] = 1;
     for (int u : main) {
@@ -254,12 +392,15 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
         for (int x : branch) br.points.push_back(points[x]);
         br.length = path_length(br.points);
         br.closed = false;
-        found.push_back(std::move(br));
+        branches.push_back(std::move(br));
       }
     }
     for (int u : main) blocked[u] = 0;
-    found.push_back(std::move(c));
+    pieces.push_back(std::move(c));
   }
+
+  std::vector<Candidate> found = join_pieces(std::move(pieces), link_distance, join_distance);
+  for (auto& br : branches) found.push_back(std::move(br));
   double longest = 0.0;
   for (const auto& c : found) longest = std::max(longest, c.length);
   const double keep_length = std::max(min_branch_fraction * longest, min_length);
@@ -267,6 +408,9 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
                    [](const Candidate& x, const Candidate& y) { return x.length > y.length; });
   for (auto& c : found) {
     if (c.length < keep_length || c.points.size() < 2) continue;
+    // A curve beside a longer one (a second ridge through the same noisy
+    // band) is not a curve of its own.
+    if (!curves.empty() && shadowed(c.points, curves, 0.5 * join_distance)) continue;
     if (c.closed && c.points.size() > 2 && (c.points.front() - c.points.back()).norm() < 1e-12) {
       c.points.pop_back();
     }
@@ -293,11 +437,11 @@ std::vector<SkeletonCurve> extract_skeleton(const EffectField& field, const Skel
     for (const FieldSource& s : field.sources) {
       if (s.weight > 0.0) nodes.push_back(s.position);
     }
-    curves = order_ridge_points(nodes, field.cell_size * field.resolution * 2.0, options.min_branch_fraction, 0.0);
+    curves = order_ridge_points(nodes, field.cell_size * field.resolution * 2.0, 0.0, options.min_branch_fraction, 0.0);
   } else {
     const std::vector<Eigen::Vector2d> ridge = find_ridge_points(field, options.min_field_fraction);
     const double link = std::max(2.5 * field.cell_size, 0.5 * field.effect_radius);
-    curves = order_ridge_points(ridge, link, options.min_branch_fraction, 2.0 * link);
+    curves = order_ridge_points(ridge, link, 2.0 * field.effect_radius, options.min_branch_fraction, 2.0 * link);
   }
   if (curves.empty()) return none;
 

@@ -66,20 +66,31 @@ std::vector<Eigen::Vector2d> find_ridge_points(const EffectField& field, double 
 
 // Orders ridge points into curves (see the file comment).
 //   points: chart points; link_distance: longest gap bridged between two
-//   neighbouring points (chart units, > 0); min_branch_fraction as above;
-//   min_length: shortest curve kept, chart units.
+//   neighbouring points (chart units, > 0); join_distance: longest gap
+//   bridged between the ends of two paths that continue each other (>= 0,
+//   chart units; see below); min_branch_fraction as above; min_length:
+//   shortest curve kept, chart units.
 // A path is closed when the gap between its ends is at most
 // max(min(2 link, 1.5 * its longest step), 0.08 * its length).
+// Joining: when a curve's Gauss image has thinned into clusters, the field
+// dips between them and the ridge breaks into pieces. Open paths are chained,
+// shortest gap first, when the gap is at most join_distance, they run the
+// same way (end directions within 60 degrees, measured over join_distance of
+// path) and each end lies ahead of the other along its direction, within one
+// link or 30 degrees of it; the chain is then tested for closure again.
+// After joining, a curve with half of its points within join_distance / 2 of
+// a longer kept curve is dropped (a second ridge through the same band).
 // Returns curves longest first; each has >= 2 points. Empty if points has
 // fewer than 2 points or nothing is long enough.
 std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>& points,
-                                              double link_distance, double min_branch_fraction,
-                                              double min_length);
+                                              double link_distance, double join_distance,
+                                              double min_branch_fraction, double min_length);
 
 // The whole stage: ridge points, ordering, and the planar test.
 // Returns an empty vector when the Gauss image is about a point (planar
 // patch, fewer than 4 points, or a ridge too short against the spread); the
-// caller then uses the mean normal. Link distance: max(2.5 cells, R / 2).
+// caller then uses the mean normal. Link distance: max(2.5 cells, R / 2);
+// join distance 2 R.
 // Throws EngineError(invalid_argument) on options out of range.
 std::vector<SkeletonCurve> extract_skeleton(const EffectField& field, const SkeletonOptions& options);
 

@@ -20,7 +20,7 @@ STAGES = [
     ("read + write mesh file (tool)", ["developable_tool::read_raw_mesh", "developable_tool::write_mesh"]),
     ("input check", ["developable::validate_mesh"]),
     ("ideal curve fit (effect field, skeleton, B-splines)", ["developable::fit_patch_curves"]),
-    ("nearest targets on the curves", ["developable::patch_target_normals"]),
+    ("nearest targets on the curves", ["developable::patch_target_normals"]),  # + its threads
     ("segmentation", ["developable::segment_mesh"]),
     ("MLS row weights", ["developable::mls_row_weights"]),
     ("system build + factorization (t_D)", ["developable::NormalGuidedDeformation::NormalGuidedDeformation"]),
@@ -31,6 +31,9 @@ STAGES = [
     ("tolerance clamp", ["developable::clamp_to_tolerance", "developable::(anonymous namespace)::clamp_to_tolerance"]),
     ("auto-segmentation check", ["developable::(anonymous namespace)::curve_fit_error", "developable::curve_fit_error"]),
 ]
+
+# Threads started inside a stage, by a function name in the thread's type.
+THREAD_STAGES = [("nearest targets on the curves", "nearest_on_curves")]
 
 LINE = re.compile(r"^\s*([\d,]+)\s+\(\s*[\d.]+%\)\s+(.*?):(.*?)(?:\s+\[(.*)\])?$")
 
@@ -82,7 +85,7 @@ def annotate(out_file, inclusive):
 
 
 def profile(tool, mesh_obj, extra_args=()):
-    """{'total': Ir, 'pipeline': Ir of run_pipeline, 'stages': [(name, Ir)],
+    """{'total': Ir, 'pipeline': Ir of run_pipeline and its threads, 'stages': [(name, Ir)],
     'self': [(function, Ir)] top exclusive}."""
     with tempfile.TemporaryDirectory(prefix="bench-callgrind-") as tmp:
         out_file = pathlib.Path(tmp) / "callgrind.out"
@@ -90,13 +93,26 @@ def profile(tool, mesh_obj, extra_args=()):
                         str(tool), str(mesh_obj), str(pathlib.Path(tmp) / "out.obj"), "--quiet",
                         *extra_args], check=True, stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL)
-        total, incl = annotate(out_file, True)
-        _, excl = annotate(out_file, False)
+        return summarize(out_file)
+
+
+def summarize(out_file):
+    """Stage and hottest-function table of one callgrind output file."""
+    total, incl = annotate(out_file, True)
+    _, excl = annotate(out_file, False)
+    # Worker threads (std::thread) are call-tree roots of their own in callgrind:
+    # their cost is not under run_pipeline. Add each to the stage that starts it.
+    threads = {n: c for n, c in incl.items() if n.startswith("std::thread::_State_impl")}
+    extra = collections.Counter()
+    for name, cost in threads.items():
+        title = next((t for t, marker in THREAD_STAGES if marker in name), "other worker threads")
+        extra[title] += cost
     stages = []
     for title, names in STAGES:
-        cost = sum(incl.get(n, 0) for n in names)
+        cost = sum(incl.get(n, 0) for n in names) + extra.pop(title, 0)
         if cost:
             stages.append((title, cost))
-    pipeline = incl.get("developable::run_pipeline", 0)
+    stages += list(extra.items())
+    pipeline = incl.get("developable::run_pipeline", 0) + sum(threads.values())
     return {"total": total, "pipeline": pipeline, "stages": stages,
             "self": excl.most_common(12)}

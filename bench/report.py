@@ -62,7 +62,7 @@ def quality_cells(r):
 
 MESH_HEADER = ["mesh", "#v", "#f", "AE", "mean δ before", "max δ before", "mean δ after",
                "max δ after", "dE %", "flat", "H/diag", "move/AE", "it", "stop", "patches",
-               "t_D ms", "t_I ms", "t_T ms", "peak MiB"]
+               "t_D ms", "t_I ms", "t_T ms", "CPU ms", "peak MiB"]
 
 
 def mesh_rows(rows, label=lambda r: r["label"]):
@@ -76,7 +76,7 @@ def mesh_rows(rows, label=lambda r: r["label"]):
                     fmt(r["max_before"])] + quality_cells(r) +
                    [str(r.get("iterations", "–")), str(r.get("stop_reason", "–")),
                     str(r.get("patches", "–")), ms(r.get("t_D")), ms(r.get("t_I")),
-                    ms(r.get("t_T")), "%.0f" % r["peak_mib"]])
+                    ms(r.get("t_T")), ms(r.get("cpu_ms")), "%.0f" % r["peak_mib"]])
     return out
 
 
@@ -406,13 +406,15 @@ def write(data, out):
                                "**Quick slice only (CI smoke run): not the full benchmark.**"
                                if data.get("quick") else ""))
     md.append("")
-    md.append("Machine: %s, %s cores, %s GiB, %s, Python %s; run on %s, took %s min. Engine "
+    md.append("Machine: %s, %s cores, %s GiB, %s, Python %s; run on %s, took %s min; load "
+              "average (1, 5, 15 min) %s at the start, %s at the end. Engine "
               "`dev_version_string()` = %s (ABI %s), commit %s, %s build. The machine is shared "
               "and noisy: wall times of small runs vary by tens of percent between runs (small "
               "cases are run several times, the median is shown), the instruction counts of the "
               "profile do not." % (
                   info["cpu"], info["cores"], info["memory_gib"], info["os"], info["python"],
-                  info["date"], info.get("bench_minutes", "?"), info.get("engine_version"),
+                  info["date"], info.get("bench_minutes", "?"), info.get("load_start"),
+                  info.get("load_end"), info.get("engine_version"),
                   info.get("abi_version"), info.get("commit"), info.get("build_type")))
     md += ["", "## Targets", "", checklist(rows, series), ""]
     md += ["## Columns", "",
@@ -429,7 +431,8 @@ def write(data, out):
            "stopped. **patches**: segmentation patches.",
            "- **t_D, t_I, t_T**: the engine's own timers (dev_stats): system build + "
            "factorization, iterations, whole `dev_run` call (checks, fitting, segmentation "
-           "included), ms.",
+           "included), ms. **CPU ms**: user + system CPU time of the process during "
+           "`dev_run` (all threads): less sensitive to other jobs on the machine than wall time.",
            "- **peak MiB**: peak resident memory (VmHWM, reset just before `dev_run`) of the "
            "subprocess running the case: the Python interpreter with numpy (~50 MiB) and the "
            "input arrays are included.", ""]

@@ -62,6 +62,7 @@ def machine_info(library, build_dir):
     except (OSError, StopIteration):
         info["memory_gib"] = None
     info["os"] = "%s %s" % (platform.system(), platform.release())
+    info["load_start"] = "%.1f %.1f %.1f" % os.getloadavg()
     info["python"] = platform.python_version()
     try:
         lib = ctypes.CDLL(str(library))
@@ -179,7 +180,7 @@ def run_case(case, library, timeout):
         job["hausdorff"] = False  # the same numbers again: only the timings differ
     row = runs[0]
     if len(runs) > 1:
-        for key in ("t_D", "t_I", "t_T", "wall_ms"):
+        for key in ("t_D", "t_I", "t_T", "wall_ms", "cpu_ms"):
             if key in row:
                 values = sorted(r[key] for r in runs)
                 row[key] = values[len(values) // 2]  # median
@@ -301,6 +302,7 @@ def main(argv=None):
     profiles = None
     if not args.no_profile:
         profiles = run_profiles(args, out)
+    info["load_end"] = "%.1f %.1f %.1f" % os.getloadavg()
     info["bench_minutes"] = round((time.perf_counter() - started) / 60.0, 1)
     command = "/usr/bin/python3 bench/run.py" + (" --quick" if args.quick else "")
     if args.compare:

@@ -68,12 +68,15 @@ def run_engine(case, positions, triangles):
     params = dict(case.get("params", {}))
     rss0 = status_kib("VmRSS")
     peak_reset = reset_peak()
+    cpu0 = resource.getrusage(resource.RUSAGE_SELF)
     t0 = time.perf_counter()
     try:
         result = eng.run(positions, triangles, pinned=pinned, progress=progress, **params)
     except engine_module.EngineError as error:
         return {"error": str(error)}
     wall = time.perf_counter() - t0
+    cpu1 = resource.getrusage(resource.RUSAGE_SELF)
+    cpu = (cpu1.ru_utime - cpu0.ru_utime) + (cpu1.ru_stime - cpu0.ru_stime)
     peak = status_kib("VmHWM") if peak_reset else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     marks.append((t0 + wall, "end"))
     stages = {}
@@ -85,7 +88,7 @@ def run_engine(case, positions, triangles):
         "engine_stats": {k: (v if not isinstance(v, float) or math.isfinite(v) else None)
                          for k, v in s.items()},
         "t_D": s["time_decompose_ms"], "t_I": s["time_iterate_ms"], "t_T": s["time_total_ms"],
-        "wall_ms": 1000.0 * wall, "rss_before_mib": rss0 / 1024.0, "peak_mib": peak / 1024.0,
+        "wall_ms": 1000.0 * wall, "cpu_ms": 1000.0 * cpu, "rss_before_mib": rss0 / 1024.0, "peak_mib": peak / 1024.0,
         "iterations": s["iterations"], "stop_reason": s["stop_reason"], "patches": s["patches"],
         "stages_ms": stages,
     }

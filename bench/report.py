@@ -377,12 +377,14 @@ def plots(data, out):
         ax_e.set_yscale("log")
         ax_e.set_ylabel("mean |δ| after / before")
         ax_e.axhline(1.0, color="k", linewidth=0.6)
-        ax_e.set_title("Paper vs refit mode, segmentation on / off / automatic (defaults otherwise)")
+        ax_e.set_ylim(top=5.0)
+        fig.suptitle("Paper vs refit mode, segmentation on / off / automatic (defaults otherwise)",
+                     fontsize=10)
         ax_t.set_yscale("log")
         ax_t.set_ylabel("t_T (s)")
         ax_t.set_xticks(np.arange(len(labels)))
         ax_t.set_xticklabels(labels, rotation=35, ha="right", fontsize=8)
-        ax_e.legend(fontsize=7, ncol=4)
+        ax_e.legend(fontsize=7, ncol=4, loc="lower left", bbox_to_anchor=(0.0, 1.0))
         for ax in (ax_e, ax_t):
             ax.grid(True, axis="y", which="both", alpha=0.3)
         fig.tight_layout()

@@ -2,6 +2,7 @@
 // pipeline, and catches everything. No logic of its own.
 #include "developable.h"
 
+#include "memory_budget.h"
 #include "mesh_input.h"
 #include "pipeline.h"
 
@@ -101,6 +102,27 @@ developable::PipelineOptions to_options(const dev_params& p) {
   return o;
 }
 
+// Vertices at exactly the same position as another vertex. A mesh whose
+// triangles each have their own three vertices (a polygon soup: STL, some
+// OBJ exports) has no interior vertex; this names the likely cause.
+int64_t coincident_vertices(const developable::Positions& positions) {
+  std::vector<Eigen::Index> order(static_cast<size_t>(positions.rows()));
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+  auto less = [&](Eigen::Index a, Eigen::Index b) {
+    for (int c = 0; c < 3; ++c)
+      if (positions(a, c) != positions(b, c)) return positions(a, c) < positions(b, c);
+    return false;
+  };
+  std::sort(order.begin(), order.end(), less);
+  int64_t count = 0;
+  for (size_t i = 0; i < order.size(); ++i) {
+    const bool same_as_previous = i > 0 && !less(order[i - 1], order[i]);
+    const bool same_as_next = i + 1 < order.size() && !less(order[i], order[i + 1]);
+    count += same_as_previous || same_as_next;
+  }
+  return count;
+}
+
 bool call_progress(double fraction, const char* stage, void* user) {
   auto* callback = static_cast<std::pair<dev_progress_fn, void*>*>(user);
   return callback->first(fraction, stage, callback->second) != 0;
@@ -164,14 +186,29 @@ int32_t dev_run(const double* positions, int64_t n_vertices, const int32_t* tria
     dev_params defaults;
     dev_default_params(&defaults);
     const developable::PipelineOptions options = to_options(params != nullptr ? *params : defaults);
+    // Options first (a wild grid_resolution is invalid_argument, not
+    // out_of_memory), then the memory budget, before anything is copied or
+    // allocated (docs/hardening.md, "Memory budget").
+    developable::check_options(options);
+    developable::check_memory_budget(n_vertices, n_triangles, options);
     std::vector<bool> pin_mask;
     if (pinned != nullptr) pin_mask.assign(pinned, pinned + n_vertices);
     std::pair<dev_progress_fn, void*> callback{progress, user};
     const developable::Progress report{progress != nullptr ? call_progress : nullptr, &callback};
     auto owned = std::make_unique<dev_result>();
-    owned->pipeline = developable::run_pipeline(copy_positions(positions, n_vertices),
-                                                copy_triangles(triangles, n_triangles), pin_mask,
-                                                options, report);
+    const developable::Positions input = copy_positions(positions, n_vertices);
+    try {
+      owned->pipeline = developable::run_pipeline(input, copy_triangles(triangles, n_triangles),
+                                                  pin_mask, options, report);
+    } catch (const EngineError& e) {
+      if (e.status() != Status::no_interior_vertex) throw;
+      const int64_t shared = coincident_vertices(input);
+      if (shared == 0) throw;
+      throw EngineError(e.status(), std::string(e.what()) + "; " + std::to_string(shared) + " of " +
+                                        std::to_string(n_vertices) +
+                                        " vertices share a position with another vertex (a polygon "
+                                        "soup?): weld them first (Blender: Merge by Distance)");
+    }
     *result = owned.release();
   });
 }

@@ -10,6 +10,27 @@ from .properties import ENGINE_PARAMETERS, PIN_PARAMETERS
 
 CATEGORY = "Developable"
 
+# Expected run time (docs/hardening.md, "Limits"): measured on 2 cores, about
+#   decoupled solver: faces * (25 us + iterations * 5 us)
+#   coupled / paper:  faces * iterations * 1 ms (refactored every iteration)
+# with ~30 iterations for a typical run (max_iterations caps it).
+LARGE_MESH_FACES = 100_000
+
+
+def expected_seconds(faces, settings):
+    iterations = min(int(settings.max_iterations), 30)
+    if settings.mode == 'PAPER' or settings.solver == 'COUPLED':
+        return faces * iterations * 1e-3
+    return faces * (25e-6 + iterations * 5e-6)
+
+
+def _duration_text(seconds):
+    if seconds < 90:
+        return "%.0f s" % max(seconds, 1)
+    if seconds < 5400:
+        return "%.0f min" % (seconds / 60)
+    return "%.1f h" % (seconds / 3600)
+
 
 def draw_parameters(layout, owner, obj):
     """Engine parameters and pins of `owner` (scene settings or the operator)."""
@@ -76,6 +97,13 @@ class VIEW3D_PT_developable(Panel):
             setattr(op, name, getattr(settings, name))
         if context.mode == 'EDIT_MESH' and settings.pin_selection:
             layout.label(text="Selected vertices will be pinned", icon='PINNED')
+        if obj is not None and obj.type == 'MESH':
+            # triangles the engine will see: loop triangles when Blender has them,
+            # else 2 per polygon (quads); never computed here, drawing must be cheap
+            faces = len(obj.data.loop_triangles) or 2 * len(obj.data.polygons)
+            if faces >= LARGE_MESH_FACES:
+                layout.label(text="Large mesh: expect about %s"
+                             % _duration_text(expected_seconds(faces, settings)), icon='TIME')
 
 
 class VIEW3D_PT_developable_parameters(Panel):

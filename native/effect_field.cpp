@@ -80,15 +80,21 @@ double linking_distance(const EffectField& field, const std::vector<int>& cell_s
       }
     }
   }
+  // Pairs of touching regions; a boundary repeats its pair along its
+  // length, so a pair equal to the last one recorded is skipped at once.
   std::vector<uint64_t> pairs;
-  auto touch = [&](int a, int b) {
-    if (a != b) pairs.push_back(static_cast<uint64_t>(std::min(a, b)) << 32 | static_cast<uint32_t>(std::max(a, b)));
+  uint64_t last[2] = {0, 0};
+  auto touch = [&](int a, int b, uint64_t& previous) {
+    if (a == b) return;
+    const uint64_t key = static_cast<uint64_t>(std::min(a, b)) << 32 | static_cast<uint32_t>(std::max(a, b));
+    if (key != previous) pairs.push_back(key);
+    previous = key;
   };
   for (int iy = 0; iy < n; ++iy) {
     for (int ix = 0; ix < n; ++ix) {
       const size_t c = static_cast<size_t>(iy) * n + ix;
-      if (ix + 1 < n) touch(label[c], label[c + 1]);
-      if (iy + 1 < n) touch(label[c], label[c + n]);
+      if (ix + 1 < n) touch(label[c], label[c + 1], last[0]);
+      if (iy + 1 < n) touch(label[c], label[c + n], last[1]);
     }
   }
   std::sort(pairs.begin(), pairs.end());

@@ -109,6 +109,11 @@ Spline fit_spline(const std::vector<Eigen::Vector2d>& data, const std::vector<do
   return s;
 }
 
+// Chart polyline samples per control point for projections: a chord of
+// 1/8 of a control span leaves a circle of 16 control points by < 1e-4 of
+// its radius.
+constexpr int kSamplesPerControl = 8;
+
 // A spline sampled densely, for projections.
 struct Polyline {
   std::vector<Eigen::Vector2d> points;
@@ -157,11 +162,18 @@ class ChartNearest {
   // Nearest point; for open polylines a query beyond an end is extended along
   // the end tangent to a parameter outside [0, 1] (so a refit can grow the
   // curve to cover its data).
-  Hit nearest(const Eigen::Vector2d& q) const {
+  // `warm` is the group to search first (a nearby query's answer, so the
+  // bound is tight early); it becomes the group of this answer.
+  Hit nearest(const Eigen::Vector2d& q, int& warm) const {
     Hit hit;
-    int best_c = -1, best_s = -1;
+    int best_c = -1, best_s = -1, best_g = -1;
     double best_f = 0.0;
-    for (const Group& g : groups_) {
+    const int groups = static_cast<int>(groups_.size());
+    warm = std::min(std::max(warm, 0), groups - 1);
+    for (int k = -1; k < groups; ++k) {
+      if (k == warm) continue;
+      const int gi = k < 0 ? warm : k;
+      const Group& g = groups_[gi];
       const double d = (q - g.center).norm() - g.radius;
       if (d > 0.0 && d * d >= hit.dist2) continue;
       for (int s = g.begin; s < g.end; ++s) {
@@ -173,11 +185,13 @@ class ChartNearest {
           hit.dist2 = d2;
           best_c = g.curve;
           best_s = s;
+          best_g = gi;
           best_f = f;
         }
       }
     }
     if (best_c < 0) return hit;
+    warm = best_g;
     const Polyline& line = lines_[best_c];
     const int n = static_cast<int>(line.points.size());
     hit.curve = best_c;
@@ -267,13 +281,14 @@ std::vector<int> refine(std::vector<Spline>& splines, const EffectField& field, 
   std::vector<int> support(splines.size(), 0);
   for (int round = 0; round < rounds; ++round) {
     std::vector<Polyline> lines;
-    for (const Spline& s : splines) lines.push_back(sample_spline(s, 32 * static_cast<int>(s.ctrl.size())));
+    for (const Spline& s : splines) lines.push_back(sample_spline(s, kSamplesPerControl * static_cast<int>(s.ctrl.size())));
     const ChartNearest search(lines);
+    int warm = 0;
     std::vector<std::vector<Eigen::Vector2d>> data(splines.size());
     std::vector<std::vector<double>> params(splines.size()), weights(splines.size());
     for (const FieldSource& src : field.sources) {
       if (!(src.weight > 0.0)) continue;
-      const ChartNearest::Hit hit = search.nearest(src.position);
+      const ChartNearest::Hit hit = search.nearest(src.position, warm);
       if (hit.curve < 0 || hit.dist2 > reach2) continue;
       data[hit.curve].push_back(src.position);
       params[hit.curve].push_back(hit.param);
@@ -387,14 +402,15 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
   // centroid (a 2-D blob with a few ridges through its noise).
   {
     std::vector<Polyline> lines;
-    for (const Spline& s : splines) lines.push_back(sample_spline(s, 32 * static_cast<int>(s.ctrl.size())));
+    for (const Spline& s : splines) lines.push_back(sample_spline(s, kSamplesPerControl * static_cast<int>(s.ctrl.size())));
     const ChartNearest search(lines);
+    int warm = 0;
     double total = 0.0, residual = 0.0, spread = 0.0;
     Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
     for (const FieldSource& src : field.sources) {
       total += src.weight;
       centroid += src.weight * src.position;
-      residual += src.weight * search.nearest(src.position).dist2;
+      residual += src.weight * search.nearest(src.position, warm).dist2;
     }
     if (total > 0.0) {
       centroid /= total;

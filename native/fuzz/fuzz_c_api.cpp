@@ -314,8 +314,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
   check_message(message.data(), capacity);
   require(message[capacity] == '#', "dev_run wrote past the message buffer");
   if (std::getenv("FUZZ_VERBOSE") != nullptr)
-    std::fprintf(stderr, "v=%lld t=%lld validate=%d run=%d: %s\n", static_cast<long long>(n_vertices),
-                 static_cast<long long>(n_triangles), checked, status, message.data());
+    std::fprintf(stderr,
+                 "v=%lld t=%lld validate=%d run=%d: %s\n  params%s: omega %g tolerance %g iterations %d "
+                 "mode %d solver %d pin_boundary %d mls %d stop %g threshold %g segmentation %d "
+                 "patches %d segment_error %g seams %d grid %d\n",
+                 static_cast<long long>(n_vertices), static_cast<long long>(n_triangles), checked,
+                 status, message.data(), default_params ? " (unused: defaults)" : "", params.omega,
+                 params.tolerance, params.max_iterations, params.mode, params.solver,
+                 params.pin_boundary, params.use_mls_weights, params.stop_relative_change,
+                 params.developable_threshold, params.segmentation, params.target_patches,
+                 params.segment_max_error, params.seams, params.grid_resolution);
   require(status != DEV_STATUS_INTERNAL_ERROR, "dev_run reported an internal error");
   // A mesh the input check refuses is refused by dev_run with the same code
   // (unless a parameter or the pin mask was refused first).

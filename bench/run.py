@@ -254,6 +254,9 @@ def main(argv=None):
     parser.add_argument("--reuse", action="store_true",
                         help="reuse rows of the previous results file for identical cases "
                              "(only to iterate on the report; final numbers need a fresh run)")
+    parser.add_argument("--report-only", action="store_true",
+                        help="no runs: rewrite the document and plots from the raw results "
+                             "of the last run in the same --out folder")
     args = parser.parse_args(argv)
     if args.quick:
         args.repeat = 1
@@ -268,6 +271,12 @@ def main(argv=None):
     out.mkdir(parents=True, exist_ok=True)
     default_out = out.resolve() == (REPO / "docs").resolve()
     raw_path = HERE / "results.json" if default_out else out / "bench-results.json"
+
+    if args.report_only:
+        data = json.loads(raw_path.read_text())
+        report.write(data, out)
+        log("rewrote %s from %s" % (out / "benchmarks.md", raw_path))
+        return 0
 
     previous = {}
     if args.reuse and raw_path.exists():

@@ -15,7 +15,6 @@ import argparse
 import ctypes
 import datetime
 import json
-import math
 import os
 import pathlib
 import platform

@@ -6,7 +6,6 @@ own) and prints one JSON object on stdout.
 case: {"mesh": {...} (see meshes.load), "params": {engine dev_params fields},
        "library": path to libdevelopable.so, "compare": null | "COMMAND {in} {out}",
        "hausdorff": true}"""
-import ctypes
 import json
 import math
 import os

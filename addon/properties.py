@@ -100,7 +100,8 @@ def engine_property_definitions():
         "grid_resolution": IntProperty(
             name="Grid Resolution", default=0, min=0, soft_max=512,
             description="Cells per side of the radial effect field (Eq. 1) in which the "
-            "skeleton of the normal image is found; 0 = the engine's default (128)"),
+            "skeleton of the normal image is found; 0 = automatic, 2 sqrt(faces of the patch) "
+            "from 32 to 128"),
         "solver": EnumProperty(
             name="Solver", items=SOLVER_ITEMS, default="DECOUPLED",
             description="How the normal rows enter the linear system (Paper mode always uses "

@@ -98,7 +98,7 @@ developable::PipelineOptions to_options(const dev_params& p) {
   require(p.seams == DEV_SEAMS_FREE || p.seams == DEV_SEAMS_PINNED,
           "seams must be DEV_SEAMS_FREE or DEV_SEAMS_PINNED");
   o.seams = p.seams == DEV_SEAMS_PINNED ? developable::Seams::pinned : developable::Seams::free;
-  if (p.grid_resolution != 0) o.curve_options.grid_resolution = p.grid_resolution;
+  o.curve_options.grid_resolution = p.grid_resolution;
   return o;
 }
 

@@ -89,7 +89,8 @@ typedef struct dev_params {
   int32_t target_patches;     /* segmentation: wanted number of patches, 0 = automatic. */
   double segment_max_error;   /* segmentation: largest cone-fitting error of a patch (rad); 0 = default. */
   int32_t seams;              /* DEV_SEAMS_*. Default DEV_SEAMS_FREE. */
-  int32_t grid_resolution;    /* effect-field grid cells per side; 0 = default (128). */
+  int32_t grid_resolution;    /* effect-field grid cells per side; 0 = automatic (default):
+                                 2 sqrt(#faces of the patch), from 32 to 128. */
   int32_t solver;             /* DEV_SOLVER_*. Default DEV_SOLVER_DECOUPLED; DEV_MODE_PAPER always
                                  uses the coupled system, as the paper does. */
 } dev_params;

@@ -386,7 +386,8 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
   const GaussChart chart(choose_chart_pole(unit, w));
   const ChartPoints points = project_to_chart(chart, unit);
   EffectFieldOptions field_options;
-  field_options.grid_resolution = options.grid_resolution;
+  field_options.grid_resolution =
+      options.grid_resolution > 0 ? options.grid_resolution : automatic_grid_resolution(count);
   field_options.effect_radius = options.effect_radius;
   field_options.density_scale = options.density_scale;
   const EffectField field = compute_effect_field(points, w, field_options);
@@ -625,6 +626,11 @@ Normals nearest_on_curves(const Normals& normals, const std::vector<SphereCurve>
     for (auto& t : pool) t.join();
   }
   return targets;
+}
+
+int automatic_grid_resolution(Eigen::Index normal_count) {
+  const double cells = 2.0 * std::sqrt(static_cast<double>(std::max<Eigen::Index>(normal_count, 0)));
+  return static_cast<int>(std::clamp(std::lround(cells), 32L, 128L));
 }
 
 }  // namespace developable

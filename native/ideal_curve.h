@@ -23,8 +23,9 @@ struct SphereCurve {
 };
 
 struct IdealCurveOptions {
-  // Effect-field grid: cells per side of the square chart window.
-  int grid_resolution = 128;
+  // Effect-field grid: cells per side of the square chart window; 0 picks it
+  // from the number of normals (automatic_grid_resolution).
+  int grid_resolution = 0;
   // Effect-region threshold of Eq. 1, in chart units (the equal-area chart
   // spans a disc of radius 2). 0 picks it from the point spacing.
   double effect_radius = 0.0;
@@ -33,6 +34,12 @@ struct IdealCurveOptions {
   // Polyline samples per fitted B-spline; more gives finer targets.
   int samples_per_curve = 512;
 };
+
+// The effect-field grid for `normal_count` normals: 2 sqrt(N) cells per side,
+// from 32 to 128. A few thousand normals leave most cells of a finer grid
+// empty, and the field costs grow with the cells times the kernel support;
+// on the curved cone 64 cells give the same result as 128 at half the time.
+int automatic_grid_resolution(Eigen::Index normal_count);
 
 // Fits the ideal curve(s) of one patch.
 //   normals: unit face normals of the patch (its Gauss image), one per row.

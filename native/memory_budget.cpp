@@ -1,5 +1,7 @@
 #include "memory_budget.h"
 
+#include "ideal_curve.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -40,7 +42,9 @@ double estimated_peak_bytes(int64_t vertices, int64_t triangles, const PipelineO
   const bool coupled = options.mode == Mode::paper || options.solver == Formulation::coupled;
   double per_face = kDecoupledBytesPerFace;
   if (coupled) per_face = kCoupledBytesPerFace * (1.0 + std::max(0.0, std::log2(m / 1e4)) / 8.0);
-  const double grid = static_cast<double>(options.curve_options.grid_resolution);
+  const double grid = static_cast<double>(options.curve_options.grid_resolution > 0
+                                              ? options.curve_options.grid_resolution
+                                              : automatic_grid_resolution(m));
   return kFixedBytes + n * kBytesPerVertex + m * (kBytesPerTriangle + per_face) +
          grid * grid * kBytesPerGridCell;
 }

@@ -86,8 +86,9 @@ void check_options(const PipelineOptions& o) {
   require(o.segmentation_options.target_patches >= 0 &&
               o.segmentation_options.target_patches <= 100000,
           "target_patches must be between 0 and 100000");
-  require(o.curve_options.grid_resolution >= 16 && o.curve_options.grid_resolution <= 2048,
-          "grid_resolution must be between 16 and 2048");
+  require(o.curve_options.grid_resolution == 0 ||
+              (o.curve_options.grid_resolution >= 16 && o.curve_options.grid_resolution <= 2048),
+          "grid_resolution must be 0 (automatic) or between 16 and 2048");
 }
 
 namespace {

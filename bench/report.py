@@ -505,7 +505,11 @@ def write(data, out):
         md += ["## Other tool (--compare)", "", cmp, ""]
     md += ["## Profile", "",
            "Instruction counts from `valgrind --tool=callgrind` on the command-line tool "
-           "(build/bin/developable, Release flags plus -g, built into a scratch folder); "
+           "(build/bin/developable built into a scratch folder with the Release flags plus "
+           "`-g -fno-inline-functions -fno-inline-functions-called-once "
+           "-fno-inline-small-functions`, so that each stage function keeps its own frame; "
+           "Eigen's inline code is still inlined and the total count stays within a few % of "
+           "the plain Release build); "
            "repeatable on this noisy machine. Inclusive counts of the stage functions of "
            "native/pipeline.cpp:", "", profile_section(data.get("profiles")), "",
            "Wall-clock split of the same runs as above, from the engine's progress callback "

@@ -104,8 +104,8 @@ void fuzz_params(FuzzedDataProvider& data, dev_params& p) {
   // KNOWN BUG (reported, docs/hardening.md): segmentation.cpp overflows an
   // int when segment_max_error is below ~7e-5 (ratio^2 of the fit error).
   // Kept out of the fuzzer until fixed so that it can find other bugs; the
-  // reproducer is tests/test_hardening.py::test_known_bug_tiny_segment_error.
-  // Remove these two lines once segmentation.cpp is fixed.
+  // inputs that found it are tests/fuzz_corpus/known_bugs/ (they reproduce
+  // only without these lines). Remove them once segmentation.cpp is fixed.
   if (p.segment_max_error > 0.0 && p.segment_max_error < 1e-4) p.segment_max_error = 1e-4;
 }
 

@@ -392,8 +392,11 @@ int add_split_seeds(const FaceGeometry& geometry, const FaceAdjacency& adjacency
         const int by_size = std::min(fits[c].face_count / std::max(min_faces, 1),
                                      static_cast<int>(fits[c].area / min_area)) -
                             1;
-        wanted[c] = std::clamp(static_cast<int>(std::ceil(ratio * ratio)) - 1, 1,
-                               std::min(kMaxSeedsPerSplit, by_size));
+        // ratio^2 is capped before the cast: a tiny max_fit_error makes it
+        // overflow an int, and every count past kMaxSeedsPerSplit is cut anyway.
+        const int by_error =
+            static_cast<int>(std::ceil(std::min(ratio * ratio, double(kMaxSeedsPerSplit) + 1.0))) - 1;
+        wanted[c] = std::clamp(by_error, 1, std::max(1, std::min(kMaxSeedsPerSplit, by_size)));
         spacing2[c] = fits[c].area / (M_PI * (wanted[c] + 1));
       } else if (crease[c] >= 0 && crease[c] != charts[c].seed) {
         new_seeds.emplace_back(c, crease[c]);

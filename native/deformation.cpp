@@ -38,14 +38,29 @@ Eigen::Matrix3d decoupled_rows() {
 
 Eigen::Vector3d vertex(const Positions& p, int v) { return p.row(v).transpose(); }
 
-// Rotation by `fraction` of the angle that takes unit `from` onto unit `to`.
+// Rotation turning unit `from` toward unit `to` by about `fraction` of the
+// angle between them: onto their normalised blend d = (1 - fraction) from +
+// fraction to, by Rodrigues' formula R = I + [v]x + [v]x^2 / (1 + c) with
+// v = from x d, c = from . d. No trigonometry (an atan2 and a sincos per face
+// were a fifth of an iteration); the turned angle is fraction * angle to
+// O(angle^3): 1.3 % more at 90 degrees for fraction 25/26. 1 + c is taken as
+// |from + d|^2 / 2, which does not cancel. Identity when d is undefined or
+// (anti)parallel to `from` (within ~1e-6 rad of pi the axis is noise).
 Eigen::Matrix3d partial_rotation(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                                  double fraction) {
-  const Eigen::Vector3d axis = from.cross(to);
-  const double sine = axis.norm();
-  if (sine < 1e-15) return Eigen::Matrix3d::Identity();
-  const double angle = std::atan2(sine, from.dot(to));
-  return Eigen::AngleAxisd(fraction * angle, axis / sine).toRotationMatrix();
+  const Eigen::Vector3d blend = (1.0 - fraction) * from + fraction * to;
+  const double length = blend.norm();
+  if (!(length > 0.0)) return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d d = blend / length;
+  const double one_plus_cos = 0.5 * (from + d).squaredNorm();
+  if (one_plus_cos < 1e-12) return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d v = from.cross(d);
+  Eigen::Matrix3d cross;
+  cross << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  // [v]x^2 = v v^T - |v|^2 I.
+  const double scale = 1.0 / one_plus_cos;
+  return (1.0 - scale * v.squaredNorm()) * Eigen::Matrix3d::Identity() + cross +
+         (scale * v) * v.transpose();
 }
 
 template <typename Derived>

@@ -15,8 +15,11 @@
 //              once and a change of targets only refactors numerically;
 //   decoupled  the normal rows moved into the right-hand side: each
 //              triangle's current edges are rotated toward its target normal
-//              by the angle fraction omega^2 / (1 + omega^2) (the optimum of
-//              the 2 normal rows + 6 edge rows of that triangle alone), and
+//              by about the angle fraction f = omega^2 / (1 + omega^2) (the
+//              optimum of the 2 normal rows + 6 edge rows of that triangle
+//              alone removes f of the normal component; the rotation takes
+//              the normal onto the normalised blend (1 - f) normal + f target,
+//              exact to O(angle^3) and free of trigonometry), and
 //              the remaining 9 rows, the same for x, y and z, form one n x n
 //              matrix that never changes: factored once, three solves a step.
 #pragma once

@@ -438,12 +438,15 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
 }
 
 // ---------------------------------------------------------------------------
-// nearest_on_curves: segments are great-circle arcs, held in a ball tree over
-// runs of consecutive arcs (consecutive samples of a curve are close, so
-// index ranges make tight balls). A query descends nearer child first and
-// skips every ball farther, in chord length, than its best hit so far; it is
-// warm-started with the previous query's arc, since a mesh's faces come in
-// spatially coherent order.
+// nearest_on_curves: segments are great-circle arcs. Runs of kLeafArcs
+// consecutive arcs (close on the sphere, so tight) form the leaves of a
+// complete binary tree of bounding balls in heap order, built bottom-up
+// (each parent encloses its two children). A query first scans the leaf of
+// the previous query's answer (a mesh's faces come in spatially coherent
+// order, so it usually holds the answer), then walks up to the root and
+// searches each sibling subtree whose ball may hold a nearer point: every
+// other leaf lies in exactly one of them, so the answer is exact, and a good
+// first guess costs one ball test per level.
 
 namespace {
 
@@ -454,25 +457,27 @@ struct Arc {
 };
 
 struct Ball {
-  Eigen::Vector3d center;
-  double radius;
-  int begin, end;    // arcs begin .. end-1
-  int left, right;   // children, -1 for a leaf
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double radius = -1.0;  // < 0: empty (padding of the complete tree)
 };
 
-// Cosine of the angle from q to its nearest point of the arc, and that point.
-inline void visit(const Arc& arc, const Eigen::Vector3d& q, double& best_cos, int& best_arc, int index) {
-  double c;
+constexpr int kLeafArcs = 4;
+
+struct ArcTree {
+  std::vector<Arc> arcs;
+  std::vector<Ball> balls;  // heap order: root 1, children 2i and 2i+1, leaves from `leaves`
+  int leaves = 1;           // a power of two; leaf l holds arcs kLeafArcs * l ..
+};
+
+// How near q is to the arc, as the signed square c |c| of the cosine c of
+// the angle to its nearest point (larger is nearer, no square root).
+inline double nearness(const Arc& arc, const Eigen::Vector3d& q) {
   if (arc.m.squaredNorm() > 0.0 && q.dot(arc.ua) >= 0.0 && q.dot(arc.ub) >= 0.0) {
     const double h = q.dot(arc.m);
-    c = std::sqrt(std::max(0.0, 1.0 - h * h));  // |q - (q.m) m|: the foot is inside the arc
-  } else {
-    c = std::max(q.dot(arc.a), q.dot(arc.b));
+    return 1.0 - h * h;  // |q - (q.m) m|^2: the foot is inside the arc
   }
-  if (c > best_cos) {
-    best_cos = c;
-    best_arc = index;
-  }
+  const double c = std::max(q.dot(arc.a), q.dot(arc.b));
+  return c * std::abs(c);
 }
 
 Eigen::Vector3d closest_point(const Arc& arc, const Eigen::Vector3d& q) {
@@ -484,70 +489,132 @@ Eigen::Vector3d closest_point(const Arc& arc, const Eigen::Vector3d& q) {
   return q.dot(arc.a) >= q.dot(arc.b) ? arc.a : arc.b;
 }
 
-int build_balls(const std::vector<Arc>& arcs, int begin, int end, std::vector<Ball>& balls) {
-  Ball ball{Eigen::Vector3d::Zero(), 0.0, begin, end, -1, -1};
-  Eigen::Vector3d lo = arcs[begin].a, hi = lo;
-  double bulge = 0.0;
+// Smallest ball holding both balls (either may be empty).
+Ball enclose(const Ball& x, const Ball& y) {
+  if (y.radius < 0.0) return x;
+  if (x.radius < 0.0) return y;
+  const double d = (y.center - x.center).norm();
+  if (d + y.radius <= x.radius) return x;
+  if (d + x.radius <= y.radius) return y;
+  Ball ball;
+  ball.radius = 0.5 * (d + x.radius + y.radius);
+  ball.center = x.center + ((ball.radius - x.radius) / d) * (y.center - x.center);
+  ball.radius += 1e-12;  // rounding of the centre
+  return ball;
+}
+
+ArcTree build_tree(std::vector<Arc> arcs) {
+  ArcTree tree;
+  tree.arcs = std::move(arcs);
+  const int count = static_cast<int>(tree.arcs.size());
+  while (tree.leaves * kLeafArcs < count) tree.leaves *= 2;
+  tree.balls.resize(2 * static_cast<size_t>(tree.leaves));
+  for (int l = 0; l < tree.leaves; ++l) {
+    const int begin = l * kLeafArcs, end = std::min(count, begin + kLeafArcs);
+    if (begin >= end) continue;
+    Eigen::Vector3d lo = tree.arcs[begin].a, hi = lo;
+    double bulge = 0.0;
+    for (int s = begin; s < end; ++s) {
+      const Arc& arc = tree.arcs[s];
+      lo = lo.cwiseMin(arc.a).cwiseMin(arc.b);
+      hi = hi.cwiseMax(arc.a).cwiseMax(arc.b);
+      // An arc leaves its chord by at most 1 - cos(half its angle).
+      bulge = std::max(bulge, 1.0 - std::sqrt(std::max(0.0, 0.5 * (1.0 + arc.a.dot(arc.b)))));
+    }
+    Ball& ball = tree.balls[static_cast<size_t>(tree.leaves + l)];
+    ball.center = 0.5 * (lo + hi);
+    ball.radius = 0.0;
+    for (int s = begin; s < end; ++s) {
+      ball.radius = std::max({ball.radius, (tree.arcs[s].a - ball.center).norm(),
+                              (tree.arcs[s].b - ball.center).norm()});
+    }
+    ball.radius += bulge + 1e-12;
+  }
+  for (int i = tree.leaves - 1; i >= 1; --i)
+    tree.balls[static_cast<size_t>(i)] = enclose(tree.balls[2 * static_cast<size_t>(i)],
+                                                 tree.balls[2 * static_cast<size_t>(i) + 1]);
+  return tree;
+}
+
+// The best so far of one query: nearness, arc, and the chord length it means
+// (chord^2 = 2 - 2 cos), which prunes balls.
+struct Best {
+  double nearness = -2.0;
+  int arc = -1;
+  double chord = 3.0;  // more than any chord of the unit sphere
+
+  void update_chord() {
+    const double c = std::copysign(std::sqrt(std::abs(nearness)), nearness);
+    chord = std::sqrt(std::max(0.0, 2.0 - 2.0 * c));
+  }
+};
+
+void scan_leaf(const ArcTree& tree, int leaf, const Eigen::Vector3d& q, Best& best) {
+  const int begin = leaf * kLeafArcs;
+  const int end = std::min(static_cast<int>(tree.arcs.size()), begin + kLeafArcs);
+  const double before = best.nearness;
   for (int s = begin; s < end; ++s) {
-    lo = lo.cwiseMin(arcs[s].a).cwiseMin(arcs[s].b);
-    hi = hi.cwiseMax(arcs[s].a).cwiseMax(arcs[s].b);
-    // An arc leaves its chord by at most 1 - cos(half its angle).
-    bulge = std::max(bulge, 1.0 - std::sqrt(std::max(0.0, 0.5 * (1.0 + arcs[s].a.dot(arcs[s].b)))));
+    const double near = nearness(tree.arcs[s], q);
+    if (near > best.nearness) {
+      best.nearness = near;
+      best.arc = s;
+    }
   }
-  ball.center = 0.5 * (lo + hi);
-  for (int s = begin; s < end; ++s) {
-    ball.radius = std::max({ball.radius, (arcs[s].a - ball.center).norm(), (arcs[s].b - ball.center).norm()});
+  if (best.nearness > before) best.update_chord();
+}
+
+// May the ball hold a point nearer than the best (in chord length)?
+inline bool may_hold_nearer(const Ball& ball, const Eigen::Vector3d& q, const Best& best) {
+  if (ball.radius < 0.0) return false;
+  const double reach = ball.radius + best.chord;
+  return (q - ball.center).squaredNorm() < reach * reach;
+}
+
+// Depth-first search of the subtree at `node`, nearer child first.
+void search_subtree(const ArcTree& tree, int node, const Eigen::Vector3d& q, Best& best) {
+  int stack[64];  // depth <= log2 of the node count, < 32
+  int top = 0;
+  stack[top++] = node;
+  while (top > 0) {
+    const int i = stack[--top];
+    if (!may_hold_nearer(tree.balls[static_cast<size_t>(i)], q, best)) continue;
+    if (i >= tree.leaves) {
+      scan_leaf(tree, i - tree.leaves, q, best);
+      continue;
+    }
+    const double dl = (q - tree.balls[2 * static_cast<size_t>(i)].center).squaredNorm();
+    const double dr = (q - tree.balls[2 * static_cast<size_t>(i) + 1].center).squaredNorm();
+    // Push the farther child first so the nearer one is searched first.
+    stack[top++] = dl <= dr ? 2 * i + 1 : 2 * i;
+    stack[top++] = dl <= dr ? 2 * i : 2 * i + 1;
   }
-  ball.radius += bulge + 1e-12;
-  const int index = static_cast<int>(balls.size());
-  balls.push_back(ball);
-  if (end - begin > 4) {
-    const int mid = begin + (end - begin) / 2;
-    const int left = build_balls(arcs, begin, mid, balls);
-    const int right = build_balls(arcs, mid, end, balls);
-    balls[index].left = left;
-    balls[index].right = right;
-  }
-  return index;
 }
 
 // Targets of rows begin .. end-1 (unit queries already checked finite).
-void nearest_rows(const Normals& normals, const std::vector<Arc>& arcs, const std::vector<Ball>& balls,
-                  Eigen::Index begin, Eigen::Index end, Normals& targets) {
-  std::vector<int> stack;
-  int warm = 0;
+void nearest_rows(const Normals& normals, const ArcTree& tree, Eigen::Index begin, Eigen::Index end,
+                  Normals& targets) {
   for (Eigen::Index i = begin; i < end; ++i) {
     const Eigen::Vector3d n = normals.row(i).transpose();
     const double len = n.norm();
     if (!(len > 0.0)) {
-      targets.row(i) = arcs.front().a.transpose();
+      targets.row(i) = tree.arcs.front().a.transpose();
       continue;
     }
     const Eigen::Vector3d q = n / len;
-    double best_cos = -2.0;
-    int best_arc = -1;
-    visit(arcs[warm], q, best_cos, best_arc, warm);
-    stack.assign(1, 0);
-    while (!stack.empty()) {
-      const Ball& ball = balls[stack.back()];
-      stack.pop_back();
-      const double d2 = (q - ball.center).squaredNorm();
-      if (d2 > ball.radius * ball.radius) {
-        const double gap = std::sqrt(d2) - ball.radius;
-        if (gap * gap >= 2.0 - 2.0 * best_cos) continue;  // chord^2 = 2 - 2 cos
-      }
-      if (ball.left < 0) {
-        for (int s = ball.begin; s < ball.end; ++s) visit(arcs[s], q, best_cos, best_arc, s);
-        continue;
-      }
-      // Push the farther child first so the nearer one is searched first.
-      const double dl = (q - balls[ball.left].center).squaredNorm();
-      const double dr = (q - balls[ball.right].center).squaredNorm();
-      stack.push_back(dl <= dr ? ball.right : ball.left);
-      stack.push_back(dl <= dr ? ball.left : ball.right);
+    // First guess: down from the root to the nearer child centre.
+    int node = 1;
+    while (node < tree.leaves) {
+      const Ball& left = tree.balls[2 * static_cast<size_t>(node)];
+      const Ball& right = tree.balls[2 * static_cast<size_t>(node) + 1];
+      node = right.radius >= 0.0 && (left.radius < 0.0 || (q - right.center).squaredNorm() <
+                                                               (q - left.center).squaredNorm())
+                 ? 2 * node + 1
+                 : 2 * node;
     }
-    warm = best_arc;
-    targets.row(i) = closest_point(arcs[best_arc], q).transpose();
+    Best best;
+    scan_leaf(tree, node - tree.leaves, q, best);
+    for (; node > 1; node /= 2) search_subtree(tree, node ^ 1, q, best);
+    targets.row(i) = closest_point(tree.arcs[static_cast<size_t>(best.arc)], q).transpose();
   }
 }
 
@@ -592,8 +659,7 @@ Normals nearest_on_curves(const Normals& normals, const std::vector<SphereCurve>
       arcs.push_back({a, mu, mu.cross(a), b.cross(mu), b});
     }
   }
-  std::vector<Ball> balls;
-  build_balls(arcs, 0, static_cast<int>(arcs.size()), balls);
+  const ArcTree tree = build_tree(std::move(arcs));
 
   for (Eigen::Index i = 0; i < normals.rows(); ++i) {
     if (!normals.row(i).allFinite()) {
@@ -610,7 +676,7 @@ Normals nearest_on_curves(const Normals& normals, const std::vector<SphereCurve>
   std::atomic<Eigen::Index> next{0};
   auto work = [&]() {
     for (Eigen::Index k = next++; k < chunks; k = next++) {
-      nearest_rows(normals, arcs, balls, k * kChunk, std::min(normals.rows(), (k + 1) * kChunk), targets);
+      nearest_rows(normals, tree, k * kChunk, std::min(normals.rows(), (k + 1) * kChunk), targets);
     }
   };
   if (workers <= 1) {

@@ -10,6 +10,7 @@
 #include "deformation.h"
 #include "ideal_curve.h"
 #include "segmentation.h"
+#include "target_smoothing.h"
 #include "types.h"
 
 #include <Eigen/Core>
@@ -33,7 +34,7 @@ enum class StopReason { already_developable = 0, converged = 1, iteration_limit 
 struct PipelineOptions {
   double omega = 5.0;                   // weight of the normal rows, > 0
   double tolerance = 10.0;              // E_allow in multiples of AE; <= 0: no limit
-  int max_iterations = 100;             // >= 1
+  int max_iterations = 400;             // >= 1; most runs stall or converge long before
   int refit_interval = 5;               // refit mode: refit the curves every this many
                                         // iterations, re-project onto them in between
   Mode mode = Mode::refit;
@@ -46,6 +47,9 @@ struct PipelineOptions {
   SegmentationOptions segmentation_options;
   Seams seams = Seams::free;
   IdealCurveOptions curve_options;
+  // Rounds of target normal smoothing inside each patch (target_smoothing.h);
+  // -1 automatic: 1 on a segmented mesh, 0 on a single patch.
+  int target_smoothing = -1;
 };
 
 // Throws EngineError(invalid_argument) naming the first option out of range.
@@ -82,8 +86,10 @@ struct PipelineResult {
 // Runs the pipeline on a mesh.
 //   positions, triangles: the caller's mesh (checked by validate_mesh).
 //   pinned: empty, or one flag per vertex; pinned vertices never move.
-// The result keeps the iterate with the lowest mean |defect| (the input when
-// nothing improves it), every vertex within E_allow of its input position.
+// The result keeps the best iterate (the input when nothing improves it),
+// every vertex within E_allow of its input position. "Best" is the lowest mean
+// |defect| over the interior vertices; on a segmented mesh, over those inside
+// the patches, because there the curvature is meant to gather on the seams.
 // Throws EngineError: the input's status, no_interior_vertex, no_free_vertex,
 // invalid_argument, cancelled (via progress), numerical_failure.
 PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,

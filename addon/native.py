@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 1  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 2  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -74,6 +74,7 @@ class dev_params(ctypes.Structure):
         ("seams", ctypes.c_int32),
         ("grid_resolution", ctypes.c_int32),
         ("solver", ctypes.c_int32),
+        ("target_smoothing", ctypes.c_int32),
     ]
 
 

@@ -55,6 +55,7 @@ def draw_parameters(layout, owner, obj):
     sub.prop(owner, "target_patches")
     sub.prop(owner, "segment_max_error")
     sub.prop(owner, "seams")
+    sub.prop(owner, "target_smoothing")
     layout.prop(owner, "grid_resolution")
     box = layout.column(align=True)
     box.label(text="Pins", icon='PINNED')

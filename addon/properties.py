@@ -61,8 +61,9 @@ def engine_property_definitions():
             "average edge length AE (Table I: 0.02 keeps the shape, 10 is nearly free). "
             "0 means no limit"),
         "max_iterations": IntProperty(
-            name="Max Iterations", default=100, min=1, soft_max=1000,
-            description="MaxIter: the largest number of deformation iterations"),
+            name="Max Iterations", default=400, min=1, soft_max=1000,
+            description="MaxIter: the largest number of deformation iterations (runs usually "
+            "stop earlier, when the result stops improving)"),
         "mode": EnumProperty(
             name="Mode", items=MODE_ITEMS, default="REFIT",
             description="How the objective normals are updated between iterations"),
@@ -106,6 +107,12 @@ def engine_property_definitions():
             name="Solver", items=SOLVER_ITEMS, default="DECOUPLED",
             description="How the normal rows enter the linear system (Paper mode always uses "
             "the coupled system)"),
+        "target_smoothing": IntProperty(
+            name="Target Smoothing", default=-1, min=-1, max=100, soft_max=5,
+            description="Rounds of averaging each face's objective normal with those of its "
+            "neighbours in the same patch, so that a doubly curved patch follows a smooth "
+            "target instead of crumpling; -1 = automatic (1 on a segmented mesh, 0 on one "
+            "patch)"),
     }
 
 

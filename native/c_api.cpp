@@ -99,6 +99,7 @@ developable::PipelineOptions to_options(const dev_params& p) {
           "seams must be DEV_SEAMS_FREE or DEV_SEAMS_PINNED");
   o.seams = p.seams == DEV_SEAMS_PINNED ? developable::Seams::pinned : developable::Seams::free;
   o.curve_options.grid_resolution = p.grid_resolution;
+  o.target_smoothing = p.target_smoothing;
   return o;
 }
 
@@ -164,6 +165,7 @@ void dev_default_params(dev_params* params) {
   params->grid_resolution = o.curve_options.grid_resolution;
   params->solver = o.solver == developable::Formulation::coupled ? DEV_SOLVER_COUPLED
                                                                  : DEV_SOLVER_DECOUPLED;
+  params->target_smoothing = o.target_smoothing;
 }
 
 int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles,

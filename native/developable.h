@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 1
+#define DEV_ABI_VERSION 2
 
 /* Status codes (values are stable). */
 enum {
@@ -64,7 +64,9 @@ enum {
   DEV_STOP_ALREADY_DEVELOPABLE = 0, /* mean |defect| already below developable_threshold: mesh untouched */
   DEV_STOP_CONVERGED = 1,           /* mean |defect| changed by less than stop_relative_change */
   DEV_STOP_ITERATION_LIMIT = 2,     /* max_iterations reached */
-  DEV_STOP_STALLED = 3              /* the best mean |defect| improved by less than 1 % in 10 iterations */
+  DEV_STOP_STALLED = 3              /* the best score improved by less than 1 % in 10 iterations (30 on
+                                       a segmented mesh). The score is the mean |defect|; on a
+                                       segmented mesh, the median |defect| inside the patches */
 };
 
 /* Seam treatment for segmented meshes (issue: segmentation). */
@@ -77,7 +79,7 @@ typedef struct dev_params {
   double omega;               /* weight of the normal rows (Eq. 3), > 0. Default 5. */
   double tolerance;           /* E_allow: largest vertex move, in multiples of the average edge
                                  length AE; <= 0 means no limit. Default 10. */
-  int32_t max_iterations;     /* >= 1. Default 100. */
+  int32_t max_iterations;     /* >= 1. Default 400 (most runs stop earlier, see DEV_STOP_*). */
   int32_t mode;               /* DEV_MODE_*. Default DEV_MODE_REFIT. */
   int32_t pin_boundary;       /* nonzero: pin every boundary vertex. Default 0. */
   int32_t use_mls_weights;    /* nonzero: Eq. 5 moving-least-squares row weights around pins. Default 1. */
@@ -93,6 +95,9 @@ typedef struct dev_params {
                                  2 sqrt(#faces of the patch), from 32 to 128. */
   int32_t solver;             /* DEV_SOLVER_*. Default DEV_SOLVER_DECOUPLED; DEV_MODE_PAPER always
                                  uses the coupled system, as the paper does. */
+  int32_t target_smoothing;   /* rounds of averaging the target normals over neighbouring faces of
+                                 the same patch, 0-100; -1 = automatic (default): 1 on a segmented
+                                 mesh, 0 on a single patch. */
 } dev_params;
 
 typedef struct dev_stats {

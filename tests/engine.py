@@ -27,6 +27,7 @@ class Params(ctypes.Structure):
         ("segmentation", ctypes.c_int32), ("target_patches", ctypes.c_int32),
         ("segment_max_error", ctypes.c_double), ("seams", ctypes.c_int32),
         ("grid_resolution", ctypes.c_int32), ("solver", ctypes.c_int32),
+        ("target_smoothing", ctypes.c_int32),
     ]
 
 

@@ -98,6 +98,7 @@ void fuzz_params(FuzzedDataProvider& data, dev_params& p) {
   if (data.ConsumeBool()) p.stop_relative_change = fuzzed_parameter(data, 0.0, 0.1);
   if (data.ConsumeBool()) p.developable_threshold = fuzzed_parameter(data, 0.0, 0.1);
   if (data.ConsumeBool()) p.segmentation = fuzzed_choice(data, -1, 1);
+  if (data.ConsumeBool()) p.target_smoothing = fuzzed_choice(data, -1, 3);
   if (data.ConsumeBool()) p.target_patches = fuzzed_choice(data, 0, 6);
   if (data.ConsumeBool()) p.segment_max_error = fuzzed_parameter(data, 0.0, 0.5);
   if (data.ConsumeBool()) p.seams = fuzzed_choice(data, 0, 1);
@@ -311,13 +312,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
     std::fprintf(stderr,
                  "v=%lld t=%lld validate=%d run=%d: %s\n  params%s: omega %g tolerance %g iterations %d "
                  "mode %d solver %d pin_boundary %d mls %d stop %g threshold %g segmentation %d "
-                 "patches %d segment_error %g seams %d grid %d\n",
+                 "patches %d segment_error %g seams %d grid %d smoothing %d\n",
                  static_cast<long long>(n_vertices), static_cast<long long>(n_triangles), checked,
                  status, message.data(), default_params ? " (unused: defaults)" : "", params.omega,
                  params.tolerance, params.max_iterations, params.mode, params.solver,
                  params.pin_boundary, params.use_mls_weights, params.stop_relative_change,
                  params.developable_threshold, params.segmentation, params.target_patches,
-                 params.segment_max_error, params.seams, params.grid_resolution);
+                 params.segment_max_error, params.seams, params.grid_resolution, params.target_smoothing);
   require(status != DEV_STATUS_INTERNAL_ERROR, "dev_run reported an internal error");
   // A mesh the input check refuses is refused by dev_run with the same code
   // (unless a parameter or the pin mask was refused first).

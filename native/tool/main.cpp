@@ -27,7 +27,7 @@ const char* const usage_text =
     "  --omega X            weight of the normal rows (default 5)\n"
     "  --tolerance X        E_allow: largest vertex move in multiples of the average\n"
     "                       edge length AE; 0 for no limit (default 10)\n"
-    "  --max-iterations N   iteration limit (default 100)\n"
+    "  --max-iterations N   iteration limit (default 400)\n"
     "  --mode refit|paper   refit the ideal curve every iteration (default), or the\n"
     "                       paper's one set of targets\n"
     "  --solver decoupled|coupled\n"
@@ -40,6 +40,8 @@ const char* const usage_text =
     "  --patches N          wanted number of patches (default: automatic)\n"
     "  --segment-error X    largest cone-fitting error of a patch, rad\n"
     "  --seams free|pinned  seams move freely (default) or are pinned (the paper)\n"
+    "  --target-smoothing N rounds of averaging the target normals inside each patch\n"
+    "                       (default: 1 on a segmented mesh, 0 on one patch)\n"
     "  --report FILE.json   write the run's figures, patch ids and curves as JSON\n"
     "  --quiet              no progress on stderr\n"
     "  --help               this text\n"
@@ -120,6 +122,7 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
        << "\", \"pin_boundary\": " << (params.pin_boundary ? "true" : "false")
        << ", \"mls_weights\": " << (params.use_mls_weights ? "true" : "false")
        << ", \"segmentation\": " << params.segmentation
+       << ", \"target_smoothing\": " << params.target_smoothing
        << ", \"seams\": \"" << (params.seams == DEV_SEAMS_PINNED ? "pinned" : "free") << "\"},\n";
   json << "  \"stats\": {\"vertices\": " << s.vertices << ", \"faces\": " << s.faces
        << ", \"interior_vertices\": " << s.interior_vertices << ", \"patches\": " << s.patches
@@ -215,6 +218,8 @@ int main(int argc, char** argv) {
       params.segment_max_error = parse_number(arg, value());
     } else if (arg == "--seams") {
       params.seams = choice({"free", "pinned"}) == 0 ? DEV_SEAMS_FREE : DEV_SEAMS_PINNED;
+    } else if (arg == "--target-smoothing") {
+      params.target_smoothing = parse_integer(arg, value());
     } else if (arg == "--report") {
       report_file = value();
     } else if (arg == "--quiet" || arg == "-q") {

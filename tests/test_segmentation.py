@@ -58,20 +58,53 @@ def test_piecewise_developable_meshes_keep_their_shape(engine, meshes_dir, name)
     assert distance <= 0.005 * geometry.bbox_diagonal(positions)
 
 
-@pytest.mark.parametrize("seams", ["free", "pinned"])
-def test_human_woman_is_segmented_and_never_made_worse(engine, meshes_dir, seams):
-    """The closest to the paper's wetsuit. On a closed surface the total
-    curvature is fixed (Gauss-Bonnet), so the share of flat vertices counts.
-    The engine does not yet reach the goal of half the vertices flat (see
-    docs/segmentation.md); what it guarantees is checked here: automatic
-    segmentation, the tolerance, and a result never worse than the input."""
+def flat_share(defects, interior):
+    return np.mean(np.abs(defects[interior]) < 1e-3)
+
+
+def patch_inside(triangles, patch_ids, interior):
+    """Interior vertices whose faces all belong to one patch (not on a seam)."""
+    first = np.full(interior.size, -1)
+    seam = np.zeros(interior.size, dtype=bool)
+    for corner in range(3):
+        v, p = triangles[:, corner], patch_ids
+        unset = first[v] < 0
+        first[v[unset]] = p[unset]
+        seam[v[first[v] != p]] = True
+    return interior & ~seam
+
+
+def test_human_woman_is_made_piecewise_developable(engine, meshes_dir):
+    """The issue's goal on the closest to the paper's wetsuit: on a closed
+    surface the total curvature is fixed (Gauss-Bonnet), so a good result
+    gathers it on the seams and the share of flat vertices counts. With 60
+    patches and a 1.4 AE tolerance (docs/segmentation.md), at least half the
+    interior vertices end with |defect| < 1e-3 rad, within 1 % of the
+    bounding-box diagonal."""
     positions, triangles = meshgen.read_obj(meshes_dir / "human_woman.obj")
-    result = engine.run(positions, triangles, seams=seams)
+    result = engine.run(positions, triangles, target_patches=60, tolerance=1.4)
     interior = result.interior
-    assert result.stats["patches"] > 1
-    flat_before = np.mean(np.abs(result.defect_before[interior]) < 1e-3)
-    flat_after = np.mean(np.abs(result.defect_after[interior]) < 1e-3)
-    assert flat_before < 0.05 and flat_after >= flat_before
-    assert result.stats["mean_defect_after"] <= result.stats["mean_defect_before"]
+    assert result.stats["patches"] == 60
+    assert flat_share(result.defect_before, interior) < 0.05
+    assert flat_share(result.defect_after, interior) >= 0.5
     distance = geometry.hausdorff(positions, triangles, result.positions, triangles)
     assert distance <= 0.01 * geometry.bbox_diagonal(positions)
+
+
+@pytest.mark.parametrize("seams", ["free", "pinned"])
+def test_segmented_result_is_flatter_inside_the_patches(engine, meshes_dir, seams):
+    """Default settings: automatic segmentation, and the kept iterate is the
+    one with the lowest median |defect| inside the patches, never above the
+    input's; free seams (the default) flatten far more than pinned ones."""
+    positions, triangles = meshgen.read_obj(meshes_dir / "human_woman.obj")
+    result = engine.run(positions, triangles, seams=seams)
+    assert result.stats["patches"] > 1
+    inside = patch_inside(triangles, result.patch_ids, result.interior)
+    before = np.median(np.abs(result.defect_before[inside]))
+    after = np.median(np.abs(result.defect_after[inside]))
+    assert after <= before
+    if seams == "free":
+        assert after < 0.2 * before
+        assert flat_share(result.defect_after, result.interior) >= 0.3
+    limit = result.stats["average_edge_length"] * 10.0  # the default tolerance
+    assert np.linalg.norm(result.positions - positions, axis=1).max() <= limit * (1 + 1e-9)

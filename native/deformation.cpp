@@ -29,10 +29,12 @@ Eigen::Matrix<double, 9, 9> coupled_normal_block(const Eigen::Matrix3d& shape,
   return block;
 }
 
-// The 3 x 3 scalar rows shared by both systems: two edges and the centroid.
-Eigen::Matrix3d decoupled_rows() {
+// The 3 x 3 scalar rows shared by both systems: two edges and the centroid
+// (weighted by sqrt(centroid_weight)).
+Eigen::Matrix3d decoupled_rows(double centroid_weight) {
+  const double c = std::sqrt(centroid_weight) / 3.0;
   Eigen::Matrix3d b;
-  b << -1.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0;
+  b << -1.0, 1.0, 0.0, -1.0, 0.0, 1.0, c, c, c;
   return b;
 }
 
@@ -127,15 +129,19 @@ Eigen::VectorXd mls_row_weights(const Positions& positions, const Triangles& tri
 NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles,
                                                  const std::vector<bool>& pinned,
                                                  Eigen::VectorXd row_weights, double omega,
-                                                 Formulation formulation, const Normals& targets)
+                                                 double centroid_weight, Formulation formulation,
+                                                 const Normals& targets)
     : triangles_(triangles),
       row_weights_(std::move(row_weights)),
       omega_(omega),
+      centroid_weight_(centroid_weight),
       formulation_(formulation),
       targets_(targets),
       free_index_(pinned.size(), -1) {
   if (!(omega > 0.0) || !std::isfinite(omega))
     throw EngineError(Status::invalid_argument, "omega must be a positive number");
+  if (!(centroid_weight > 0.0) || !std::isfinite(centroid_weight))
+    throw EngineError(Status::invalid_argument, "the centroid weight must be a positive number");
   if (row_weights_.size() != triangles.rows() || targets.rows() != triangles.rows())
     throw EngineError(Status::internal_error, "deformation: one weight and target per triangle");
 
@@ -156,7 +162,7 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles,
     return;
   }
   const Eigen::Index n = static_cast<Eigen::Index>(pinned.size());
-  const Eigen::Matrix3d b = decoupled_rows();
+  const Eigen::Matrix3d b = decoupled_rows(centroid_weight_);
   const Eigen::Matrix3d local = b.transpose() * b;
   Triplets free_free, free_pinned;
   free_free.reserve(static_cast<size_t>(triangles.rows()) * 9);
@@ -184,7 +190,7 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles,
 
 void NormalGuidedDeformation::factor_coupled() {
   const Eigen::Index n = static_cast<Eigen::Index>(free_index_.size());
-  const Eigen::Matrix3d b = decoupled_rows();
+  const Eigen::Matrix3d b = decoupled_rows(centroid_weight_);
   const Eigen::Matrix3d shape = b.transpose() * b;
   Triplets free_free, free_pinned;
   free_free.reserve(static_cast<size_t>(triangles_.rows()) * 81);
@@ -231,7 +237,7 @@ Positions NormalGuidedDeformation::step_coupled(const Positions& current) const 
   for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
     const int i = triangles_(f, 0), j = triangles_(f, 1), k = triangles_(f, 2);
     const Eigen::Vector3d pi = vertex(current, i), pj = vertex(current, j), pk = vertex(current, k);
-    const Eigen::Vector3d eij = pj - pi, eik = pk - pi, third = (pi + pj + pk) / 9.0;
+    const Eigen::Vector3d eij = pj - pi, eik = pk - pi, third = centroid_weight_ * (pi + pj + pk) / 9.0;
     const Eigen::Vector3d g[3] = {-eij - eik + third, eij + third, eik + third};
     for (int c = 0; c < 3; ++c) {
       const int row = free_index_[static_cast<size_t>(triangles_(f, c))];
@@ -261,7 +267,7 @@ Positions NormalGuidedDeformation::step_decoupled(const Positions& current) cons
     const Eigen::Matrix3d rotation =
         partial_rotation(normal, targets_.row(f).transpose(), fraction);
     const Eigen::Vector3d eij = rotation * (pj - pi), eik = rotation * (pk - pi);
-    const Eigen::Vector3d third = (pi + pj + pk) / 9.0;
+    const Eigen::Vector3d third = centroid_weight_ * (pi + pj + pk) / 9.0;
     const Eigen::Vector3d g[3] = {-eij - eik + third, eij + third, eik + third};
     for (int c = 0; c < 3; ++c) {
       const int row = free_index_[static_cast<size_t>(triangles_(f, c))];

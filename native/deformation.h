@@ -3,9 +3,12 @@
 // Each triangle t = (i, j, k) with target normal n contributes 11 rows:
 //   2 normal rows   omega * n . (v_j - v_i) = 0,  omega * n . (v_k - v_i) = 0
 //   6 edge rows     v_j - v_i = e_ij,  v_k - v_i = e_ik
-//   3 centroid rows (v_i + v_j + v_k) / 3 = centroid
+//   3 centroid rows sqrt(lambda) (v_i + v_j + v_k) / 3 = sqrt(lambda) centroid
 // where e and the centroid are taken from the current positions (each
-// iteration updates c, Eq. 3). All 11 rows of t are scaled by the square root
+// iteration updates c, Eq. 3). The paper weighs the centroid rows like the
+// others (lambda = 1). They only hold each triangle where it is, so they
+// also damp every step; the refit mode uses lambda = 0.3, which converges in
+// fewer iterations and to flatter results (docs/method.md has the figures). All 11 rows of t are scaled by the square root
 // of its moving-least-squares weight (Eq. 5; see mls_row_weights). Pinned
 // vertices are not unknowns: they keep their input coordinates bit for bit.
 //
@@ -55,12 +58,14 @@ class NormalGuidedDeformation {
   //   triangles: the validated mesh; pinned: one flag per vertex (at least one
   //   vertex must be free, else EngineError(no_free_vertex));
   //   row_weights: one positive weight per triangle (mls_row_weights, or ones);
-  //   omega > 0: weight of the normal rows; targets: unit target normal per
-  //   triangle (only the coupled formulation needs them here).
-  // Throws EngineError(numerical_failure) if the factorisation fails.
+  //   omega > 0: weight of the normal rows; centroid_weight > 0: lambda
+  //   above; targets: unit target normal per triangle (only the coupled
+  //   formulation needs them here).
+  // Throws EngineError(invalid_argument) for a weight out of range,
+  // EngineError(numerical_failure) if the factorisation fails.
   NormalGuidedDeformation(const Triangles& triangles, const std::vector<bool>& pinned,
-                          Eigen::VectorXd row_weights, double omega, Formulation formulation,
-                          const Normals& targets);
+                          Eigen::VectorXd row_weights, double omega, double centroid_weight,
+                          Formulation formulation, const Normals& targets);
 
   // New target normals, e.g. after the ideal curve was refit. The coupled
   // formulation refactors numerically (same sparsity pattern); the decoupled
@@ -82,6 +87,7 @@ class NormalGuidedDeformation {
   Triangles triangles_;
   Eigen::VectorXd row_weights_;
   double omega_;
+  double centroid_weight_;
   Formulation formulation_;
   Normals targets_;
   std::vector<int> free_index_;  // vertex -> unknown number, -1 when pinned

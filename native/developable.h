@@ -62,7 +62,8 @@ enum {
 /* Why the iteration stopped (dev_stats.stop_reason). */
 enum {
   DEV_STOP_ALREADY_DEVELOPABLE = 0, /* mean |defect| already below developable_threshold: mesh untouched */
-  DEV_STOP_CONVERGED = 1,           /* mean |defect| changed by less than stop_relative_change */
+  DEV_STOP_CONVERGED = 1,           /* mean |defect| changed by less than stop_relative_change
+                                       (one patch only; a segmented mesh stops by stalling) */
   DEV_STOP_ITERATION_LIMIT = 2,     /* max_iterations reached */
   DEV_STOP_STALLED = 3              /* the best score improved by less than 1 % in 10 iterations (30 on
                                        a segmented mesh). The score is the mean |defect|; on a
@@ -83,7 +84,7 @@ typedef struct dev_params {
   int32_t mode;               /* DEV_MODE_*. Default DEV_MODE_REFIT. */
   int32_t pin_boundary;       /* nonzero: pin every boundary vertex. Default 0. */
   int32_t use_mls_weights;    /* nonzero: Eq. 5 moving-least-squares row weights around pins. Default 1. */
-  double stop_relative_change;  /* stop when mean |defect| changes by less than this fraction
+  double stop_relative_change;  /* one patch: stop when mean |defect| changes by less than this fraction
                                    between iterations. Default 1e-5 (0.001 %). */
   double developable_threshold; /* mean |defect| (rad) below which the mesh counts as developable
                                    and is returned unchanged. Default 1e-10. */

@@ -97,6 +97,7 @@ def test_everything_pinned(engine):
     ("omega", 0.0), ("omega", -1.0), ("omega", float("nan")), ("tolerance", float("inf")),
     ("max_iterations", 0), ("segmentation", 4), ("grid_resolution", 3),
     ("stop_relative_change", -1.0), ("target_patches", -2), ("segment_max_error", -1.0),
+    ("target_smoothing", -2), ("target_smoothing", 101),
 ])
 def test_parameters_out_of_range(engine, field, value):
     positions, triangles = meshgen.noisy_cylinder_patch()

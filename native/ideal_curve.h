@@ -51,10 +51,4 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals,
                                           const Eigen::VectorXd& weights,
                                           const IdealCurveOptions& options);
 
-// The target normal of each face: its normal's nearest point on any of the
-// curves, measured on the sphere (so a unit vector). Segments between
-// consecutive polyline points are great-circle arcs.
-//   normals: unit vectors, one per row. curves: non-empty, as returned above.
-Normals nearest_on_curves(const Normals& normals, const std::vector<SphereCurve>& curves);
-
 }  // namespace developable

@@ -138,14 +138,18 @@ void check_options(const PipelineOptions& o) {
           "grid_resolution must be 0 (automatic) or between 16 and 2048");
 }
 
-namespace {
-
-std::vector<std::vector<Eigen::Index>> faces_of_patches(const std::vector<int>& patch_ids,
-                                                        int patch_count) {
-  std::vector<std::vector<Eigen::Index>> faces(static_cast<size_t>(patch_count));
+PatchFaces faces_of_patches(const std::vector<int>& patch_ids, int patch_count) {
+  PatchFaces faces(static_cast<size_t>(patch_count));
   for (size_t f = 0; f < patch_ids.size(); ++f)
     faces[static_cast<size_t>(patch_ids[f])].push_back(static_cast<Eigen::Index>(f));
   return faces;
+}
+
+namespace {
+
+// A patch's faces are 0 .. n-1 when it has all n of them: its rows need no gathering.
+bool whole_mesh(const std::vector<Eigen::Index>& members, Eigen::Index faces) {
+  return static_cast<Eigen::Index>(members.size()) == faces;
 }
 
 Normals gather_rows(const Normals& rows, const std::vector<Eigen::Index>& members) {
@@ -157,33 +161,42 @@ Normals gather_rows(const Normals& rows, const std::vector<Eigen::Index>& member
 }  // namespace
 
 std::vector<PatchCurve> fit_patch_curves(const Normals& normals, const Eigen::VectorXd& areas,
-                                         const std::vector<int>& patch_ids, int patch_count,
-                                         const IdealCurveOptions& options) {
+                                         const PatchFaces& patches, const IdealCurveOptions& options) {
   std::vector<PatchCurve> curves;
-  const auto faces = faces_of_patches(patch_ids, patch_count);
-  for (int patch = 0; patch < patch_count; ++patch) {
-    const auto& members = faces[static_cast<size_t>(patch)];
+  for (size_t patch = 0; patch < patches.size(); ++patch) {
+    const auto& members = patches[patch];
     if (members.empty()) continue;
-    Eigen::VectorXd patch_areas(static_cast<Eigen::Index>(members.size()));
-    for (size_t i = 0; i < members.size(); ++i)
-      patch_areas[static_cast<Eigen::Index>(i)] = areas[members[i]];
-    for (auto& curve : fit_ideal_curves(gather_rows(normals, members), patch_areas, options))
-      curves.push_back({patch, std::move(curve)});
+    std::vector<SphereCurve> fitted;
+    if (whole_mesh(members, normals.rows())) {
+      fitted = fit_ideal_curves(normals, areas, options);
+    } else {
+      Eigen::VectorXd patch_areas(static_cast<Eigen::Index>(members.size()));
+      for (size_t i = 0; i < members.size(); ++i)
+        patch_areas[static_cast<Eigen::Index>(i)] = areas[members[i]];
+      fitted = fit_ideal_curves(gather_rows(normals, members), patch_areas, options);
+    }
+    for (auto& curve : fitted) curves.push_back({static_cast<int>(patch), std::move(curve)});
   }
   return curves;
 }
 
-Normals patch_target_normals(const Normals& normals, const std::vector<int>& patch_ids,
-                             int patch_count, const std::vector<PatchCurve>& curves) {
-  const auto faces = faces_of_patches(patch_ids, patch_count);
+std::vector<CurveSearch> patch_curve_searches(const std::vector<PatchCurve>& curves, int patch_count) {
   std::vector<std::vector<SphereCurve>> by_patch(static_cast<size_t>(patch_count));
   for (const auto& c : curves) by_patch[static_cast<size_t>(c.patch)].push_back(c.curve);
+  std::vector<CurveSearch> searches(static_cast<size_t>(patch_count));
+  for (size_t patch = 0; patch < by_patch.size(); ++patch)
+    if (!by_patch[patch].empty()) searches[patch] = CurveSearch(by_patch[patch]);
+  return searches;
+}
+
+Normals patch_target_normals(const Normals& normals, const PatchFaces& patches,
+                             const std::vector<CurveSearch>& searches) {
   Normals targets(normals.rows(), 3);
-  for (int patch = 0; patch < patch_count; ++patch) {
-    const auto& members = faces[static_cast<size_t>(patch)];
+  for (size_t patch = 0; patch < patches.size(); ++patch) {
+    const auto& members = patches[patch];
     if (members.empty()) continue;
-    const Normals patch_targets =
-        nearest_on_curves(gather_rows(normals, members), by_patch[static_cast<size_t>(patch)]);
+    if (whole_mesh(members, normals.rows())) return searches[patch].nearest(normals);
+    const Normals patch_targets = searches[patch].nearest(gather_rows(normals, members));
     for (size_t i = 0; i < members.size(); ++i)
       targets.row(members[i]) = patch_targets.row(static_cast<Eigen::Index>(i));
   }
@@ -231,14 +244,19 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   const Eigen::VectorXd areas_before = face_areas(positions, triangles);
   result.patch_ids.assign(static_cast<size_t>(triangles.rows()), 0);
   int patch_count = 1;
+  // The faces of each patch, and the search structure of each patch's
+  // current curves (rebuilt with the curves; see run_pipeline's loop).
+  PatchFaces patches;
+  std::vector<CurveSearch> searches;
   // Automatic segmentation: only when one set of ideal curves cannot carry
   // the whole Gauss image, judged by the RMS angle between the normals and
   // their single-patch targets (docs/segmentation.md has the measurements).
   bool segment = options.segmentation == 1;
   if (!segment) {
-    result.curves = fit_patch_curves(normals_before, areas_before, result.patch_ids, 1,
-                                     options.curve_options);
-    result.target_normals = patch_target_normals(normals_before, result.patch_ids, 1, result.curves);
+    patches = faces_of_patches(result.patch_ids, 1);
+    result.curves = fit_patch_curves(normals_before, areas_before, patches, options.curve_options);
+    searches = patch_curve_searches(result.curves, 1);
+    result.target_normals = patch_target_normals(normals_before, patches, searches);
     segment = options.segmentation == -1 &&
               curve_fit_error(normals_before, result.target_normals, areas_before) >
                   kAutoSegmentationError;
@@ -248,10 +266,10 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
         segment_mesh(positions, triangles, options.segmentation_options, progress.sub(0.02, 0.05));
     for (int label : result.patch_ids) patch_count = std::max(patch_count, label + 1);
     progress.report(0.05, "ideal curve");
-    result.curves = fit_patch_curves(normals_before, areas_before, result.patch_ids, patch_count,
-                                     options.curve_options);
-    result.target_normals =
-        patch_target_normals(normals_before, result.patch_ids, patch_count, result.curves);
+    patches = faces_of_patches(result.patch_ids, patch_count);
+    result.curves = fit_patch_curves(normals_before, areas_before, patches, options.curve_options);
+    searches = patch_curve_searches(result.curves, patch_count);
+    result.target_normals = patch_target_normals(normals_before, patches, searches);
   }
   stats.patches = patch_count;
   // A segmented mesh is scored inside its patches: it is meant to gather
@@ -319,10 +337,11 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
       const bool refit = (iteration - 1) % options.refit_interval == 0;
       const Eigen::VectorXd areas =
           refit || smoothing_rounds > 0 ? face_areas(current, triangles) : Eigen::VectorXd();
-      if (refit)
-        result.curves = fit_patch_curves(normals, areas, result.patch_ids, patch_count,
-                                         options.curve_options);
-      result.target_normals = patch_target_normals(normals, result.patch_ids, patch_count, result.curves);
+      if (refit) {
+        result.curves = fit_patch_curves(normals, areas, patches, options.curve_options);
+        searches = patch_curve_searches(result.curves, patch_count);
+      }
+      result.target_normals = patch_target_normals(normals, patches, searches);
       if (smoother) result.target_normals = smoother->smooth(result.target_normals, areas, smoothing_rounds);
       const auto refactor_start = Clock::now();
       deformation.set_targets(result.target_normals);

@@ -7,6 +7,7 @@
 //   NormalGuidedDeformation              stage 7, iterated
 #pragma once
 
+#include "curve_search.h"
 #include "deformation.h"
 #include "ideal_curve.h"
 #include "segmentation.h"
@@ -96,14 +97,25 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
                             const std::vector<bool>& pinned, const PipelineOptions& options,
                             const Progress& progress);
 
+// Faces of each patch: entry p lists the faces whose patch id is p, ascending.
+using PatchFaces = std::vector<std::vector<Eigen::Index>>;
+
+// Groups the faces by patch. patch_ids: per face in 0 .. patch_count-1.
+PatchFaces faces_of_patches(const std::vector<int>& patch_ids, int patch_count);
+
 // The ideal curves of every patch (stages 3-6 per patch).
-//   normals, areas: per face; patch_ids: per face in 0 .. patch_count-1.
+//   normals, areas: per face; patches: from faces_of_patches.
 std::vector<PatchCurve> fit_patch_curves(const Normals& normals, const Eigen::VectorXd& areas,
-                                         const std::vector<int>& patch_ids, int patch_count,
-                                         const IdealCurveOptions& options);
+                                         const PatchFaces& patches, const IdealCurveOptions& options);
+
+// The search structure of each patch's curves (empty for a patch without
+// faces), built once per fit and queried by patch_target_normals.
+std::vector<CurveSearch> patch_curve_searches(const std::vector<PatchCurve>& curves, int patch_count);
 
 // The target normal of every face: its nearest point on its own patch's curves.
-Normals patch_target_normals(const Normals& normals, const std::vector<int>& patch_ids,
-                             int patch_count, const std::vector<PatchCurve>& curves);
+//   normals: per face; patches: from faces_of_patches; searches: from
+//   patch_curve_searches, one per patch.
+Normals patch_target_normals(const Normals& normals, const PatchFaces& patches,
+                             const std::vector<CurveSearch>& searches);
 
 }  // namespace developable

@@ -13,7 +13,9 @@ namespace developable {
 // Runs of kLeafArcs consecutive arcs (close on the sphere, so tight) form the
 // leaves of a complete binary tree of bounding balls in heap order, built
 // bottom-up (each parent encloses its two children). A query first scans the
-// leaf reached by descending to the nearer child centre, then walks up to the
+// leaf of its hint (the same face's answer an iteration ago, usually still
+// the answer) or else the leaf reached by descending to the nearer child
+// centre, then walks up to the
 // root and searches each sibling subtree whose ball may hold a nearer point:
 // every other leaf lies in exactly one of them, so the answer is exact, and a
 // good first guess costs one ball test per level.
@@ -36,6 +38,9 @@ constexpr int kLeafArcs = 4;
 struct ArcTree {
   std::vector<Arc> arcs;
   std::vector<Ball> balls;  // heap order: root 1, children 2i and 2i+1, leaves from `leaves`
+  // Per node: a lower bound on the distance from its ball's centre to any arc
+  // outside its subtree (see nearest_rows).
+  std::vector<double> clearance;
   int leaves = 1;           // a power of two; leaf l holds arcs kLeafArcs * l ..
 };
 
@@ -73,6 +78,59 @@ Ball enclose(const Ball& x, const Ball& y) {
   return ball;
 }
 
+// Depth of a heap-order node (the root is 1, at depth 0).
+int depth_of(int node) { return 31 - __builtin_clz(static_cast<unsigned>(node)); }
+
+// Lower bound on the distance from the centre c of node's ball to the arcs
+// outside node's subtree, by a search of the rest of the tree that starts
+// from the arcs just before and after the subtree's (usually the nearest
+// outside ones: the curve continues there). The nearest point of an arc to c
+// (|c| <= 1) is its nearest point to c / |c|, at distance^2 = |c|^2 + 1 -
+// 2 |c| cos(angle).
+double clearance_of(const ArcTree& tree, int node) {
+  const Eigen::Vector3d& c = tree.balls[static_cast<size_t>(node)].center;
+  const double length = c.norm();
+  const Eigen::Vector3d direction = length > 0.0 ? Eigen::Vector3d(c / length) : Eigen::Vector3d::UnitZ();
+  auto distance2 = [&](int arc) {
+    const double near = nearness(tree.arcs[static_cast<size_t>(arc)], direction);
+    const double cosine = std::copysign(std::sqrt(std::abs(near)), near);
+    return std::max(0.0, length * length + 1.0 - 2.0 * length * cosine);
+  };
+  const int node_depth = depth_of(node);
+  const int shift = depth_of(tree.leaves) - node_depth;  // node's leaves: node << shift ..
+  const int arc_count = static_cast<int>(tree.arcs.size());
+  const int first_arc = ((node << shift) - tree.leaves) * kLeafArcs;
+  const int end_arc = std::min(arc_count, (((node + 1) << shift) - tree.leaves) * kLeafArcs);
+  double best2 = INFINITY;
+  if (first_arc > 0) best2 = std::min(best2, distance2(first_arc - 1));
+  if (end_arc < arc_count) best2 = std::min(best2, distance2(end_arc));
+  int stack[64];
+  int top = 0;
+  stack[top++] = 1;
+  while (top > 0) {
+    const int w = stack[--top];
+    const Ball& ball = tree.balls[static_cast<size_t>(w)];
+    if (ball.radius < 0.0) continue;
+    const int below = depth_of(w) - node_depth;
+    if (below >= 0 && (w >> below) == node) continue;  // inside node's subtree
+    const double gap = (c - ball.center).norm() - ball.radius;
+    if (gap > 0.0 && gap * gap >= best2) continue;
+    if (w < tree.leaves) {
+      // Nearer child on top of the stack.
+      const bool left_nearer = (c - tree.balls[2 * static_cast<size_t>(w)].center).squaredNorm() <=
+                               (c - tree.balls[2 * static_cast<size_t>(w) + 1].center).squaredNorm();
+      stack[top++] = left_nearer ? 2 * w + 1 : 2 * w;
+      stack[top++] = left_nearer ? 2 * w : 2 * w + 1;
+      continue;
+    }
+    const int begin = (w - tree.leaves) * kLeafArcs;
+    const int end = std::min(arc_count, begin + kLeafArcs);
+    for (int s = begin; s < end; ++s) best2 = std::min(best2, distance2(s));
+  }
+  // Less a margin for the rounding of the distances compared against it.
+  return std::isfinite(best2) ? std::sqrt(best2) - 1e-9 : INFINITY;
+}
+
 ArcTree build_tree(std::vector<Arc> arcs) {
   ArcTree tree;
   tree.arcs = std::move(arcs);
@@ -103,6 +161,9 @@ ArcTree build_tree(std::vector<Arc> arcs) {
   for (int i = tree.leaves - 1; i >= 1; --i)
     tree.balls[static_cast<size_t>(i)] = enclose(tree.balls[2 * static_cast<size_t>(i)],
                                                  tree.balls[2 * static_cast<size_t>(i) + 1]);
+  tree.clearance.assign(tree.balls.size(), 0.0);
+  for (int i = 1; i < 2 * tree.leaves; ++i)
+    if (tree.balls[static_cast<size_t>(i)].radius >= 0.0) tree.clearance[static_cast<size_t>(i)] = clearance_of(tree, i);
   return tree;
 }
 
@@ -161,8 +222,10 @@ void search_subtree(const ArcTree& tree, int node, const Eigen::Vector3d& q, Bes
 }
 
 // Targets of rows begin .. end-1 (unit queries already checked finite).
+// hints: null, or one arc per row where the search starts, replaced by the
+// row's answer.
 void nearest_rows(const Normals& normals, const ArcTree& tree, Eigen::Index begin, Eigen::Index end,
-                  Normals& targets) {
+                  Normals& targets, int* hints) {
   for (Eigen::Index i = begin; i < end; ++i) {
     const Eigen::Vector3d n = normals.row(i).transpose();
     const double len = n.norm();
@@ -171,8 +234,11 @@ void nearest_rows(const Normals& normals, const ArcTree& tree, Eigen::Index begi
       continue;
     }
     const Eigen::Vector3d q = n / len;
-    // First guess: down from the root to the nearer child centre.
+    // First guess: the hinted arc's leaf, else down from the root to the
+    // nearer child centre.
+    const int arc_count = static_cast<int>(tree.arcs.size());
     int node = 1;
+    if (hints != nullptr && hints[i] >= 0 && hints[i] < arc_count) node = tree.leaves + hints[i] / kLeafArcs;
     while (node < tree.leaves) {
       const Ball& left = tree.balls[2 * static_cast<size_t>(node)];
       const Ball& right = tree.balls[2 * static_cast<size_t>(node) + 1];
@@ -183,19 +249,30 @@ void nearest_rows(const Normals& normals, const ArcTree& tree, Eigen::Index begi
     }
     Best best;
     scan_leaf(tree, node - tree.leaves, q, best);
-    for (; node > 1; node /= 2) search_subtree(tree, node ^ 1, q, best);
+    for (; node > 1; node /= 2) {
+      // Every arc of node's subtree has been considered. No arc outside it
+      // is nearer than the best when the ball of radius best.chord about q
+      // lies within node's clearance: the search is over.
+      const double room = tree.clearance[static_cast<size_t>(node)] - best.chord;
+      if (room > 0.0 && (q - tree.balls[static_cast<size_t>(node)].center).squaredNorm() < room * room) break;
+      search_subtree(tree, node ^ 1, q, best);
+    }
     targets.row(i) = closest_point(tree.arcs[static_cast<size_t>(best.arc)], q).transpose();
+    if (hints != nullptr) hints[i] = best.arc;
   }
 }
 
 // Targets of all rows, over a few threads for large inputs.
-Normals nearest_on_curves(const Normals& normals, const ArcTree& tree) {
+Normals nearest_on_curves(const Normals& normals, const ArcTree& tree, std::vector<int>* hints) {
   for (Eigen::Index i = 0; i < normals.rows(); ++i) {
     if (!normals.row(i).allFinite()) {
       throw EngineError(Status::invalid_argument, "nearest on curves: normal " + std::to_string(i) + " is not finite");
     }
   }
   Normals targets(normals.rows(), 3);
+  if (hints != nullptr && static_cast<Eigen::Index>(hints->size()) != normals.rows())
+    hints->assign(static_cast<size_t>(normals.rows()), -1);
+  int* const hint = hints != nullptr ? hints->data() : nullptr;
   // Fixed chunks, independent of the thread count.
   constexpr Eigen::Index kChunk = 8192;
   const Eigen::Index chunks = (normals.rows() + kChunk - 1) / kChunk;
@@ -204,7 +281,7 @@ Normals nearest_on_curves(const Normals& normals, const ArcTree& tree) {
   std::atomic<Eigen::Index> next{0};
   auto work = [&]() {
     for (Eigen::Index k = next++; k < chunks; k = next++) {
-      nearest_rows(normals, tree, k * kChunk, std::min(normals.rows(), (k + 1) * kChunk), targets);
+      nearest_rows(normals, tree, k * kChunk, std::min(normals.rows(), (k + 1) * kChunk), targets, hint);
     }
   };
   if (workers <= 1) {
@@ -270,9 +347,9 @@ CurveSearch::CurveSearch(const std::vector<SphereCurve>& curves) {
   tree_ = std::make_shared<const Tree>(Tree{build_tree(std::move(arcs))});
 }
 
-Normals CurveSearch::nearest(const Normals& normals) const {
+Normals CurveSearch::nearest(const Normals& normals, std::vector<int>* hints) const {
   if (!tree_) throw EngineError(Status::invalid_argument, "nearest on curves: no curve");
-  return nearest_on_curves(normals, tree_->tree);
+  return nearest_on_curves(normals, tree_->tree, hints);
 }
 
 }  // namespace developable

@@ -38,10 +38,16 @@ class CurveSearch {
   // The target normal of each row: its nearest point on the curves, a unit
   // vector. A zero row gets the first curve point.
   //   normals: one per row, any length (normalised here), finite.
+  //   hints: null, or the caller's scratch kept between calls on the same
+  //   search with the same rows: each row's answer (an arc index), from which
+  //   the next call starts. A row's normal moves little between iterations,
+  //   so its last answer is a tight first guess and saves the descent of the
+  //   tree. The answer is exact whatever the hints (resized and reset when
+  //   their size does not match).
   // Throws EngineError(invalid_argument) on a non-finite normal or when
   // empty(). Large inputs are split over a few threads; the result does not
   // depend on how many run.
-  Normals nearest(const Normals& normals) const;
+  Normals nearest(const Normals& normals, std::vector<int>* hints = nullptr) const;
 
  private:
   struct Tree;                        // arcs and balls, in curve_search.cpp

@@ -190,13 +190,16 @@ std::vector<CurveSearch> patch_curve_searches(const std::vector<PatchCurve>& cur
 }
 
 Normals patch_target_normals(const Normals& normals, const PatchFaces& patches,
-                             const std::vector<CurveSearch>& searches) {
+                             const std::vector<CurveSearch>& searches,
+                             std::vector<std::vector<int>>* hints) {
+  if (hints != nullptr) hints->resize(patches.size());
   Normals targets(normals.rows(), 3);
   for (size_t patch = 0; patch < patches.size(); ++patch) {
     const auto& members = patches[patch];
     if (members.empty()) continue;
-    if (whole_mesh(members, normals.rows())) return searches[patch].nearest(normals);
-    const Normals patch_targets = searches[patch].nearest(gather_rows(normals, members));
+    std::vector<int>* const patch_hints = hints != nullptr ? &(*hints)[patch] : nullptr;
+    if (whole_mesh(members, normals.rows())) return searches[patch].nearest(normals, patch_hints);
+    const Normals patch_targets = searches[patch].nearest(gather_rows(normals, members), patch_hints);
     for (size_t i = 0; i < members.size(); ++i)
       targets.row(members[i]) = patch_targets.row(static_cast<Eigen::Index>(i));
   }
@@ -248,6 +251,9 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   // current curves (rebuilt with the curves; see run_pipeline's loop).
   PatchFaces patches;
   std::vector<CurveSearch> searches;
+  // Each face's last answer on its patch's curves: where its next search
+  // starts. Kept across refits too, as the refit curves are sampled alike.
+  std::vector<std::vector<int>> hints;
   // Automatic segmentation: only when one set of ideal curves cannot carry
   // the whole Gauss image, judged by the RMS angle between the normals and
   // their single-patch targets (docs/segmentation.md has the measurements).
@@ -256,7 +262,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     patches = faces_of_patches(result.patch_ids, 1);
     result.curves = fit_patch_curves(normals_before, areas_before, patches, options.curve_options);
     searches = patch_curve_searches(result.curves, 1);
-    result.target_normals = patch_target_normals(normals_before, patches, searches);
+    result.target_normals = patch_target_normals(normals_before, patches, searches, &hints);
     segment = options.segmentation == -1 &&
               curve_fit_error(normals_before, result.target_normals, areas_before) >
                   kAutoSegmentationError;
@@ -269,7 +275,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     patches = faces_of_patches(result.patch_ids, patch_count);
     result.curves = fit_patch_curves(normals_before, areas_before, patches, options.curve_options);
     searches = patch_curve_searches(result.curves, patch_count);
-    result.target_normals = patch_target_normals(normals_before, patches, searches);
+    result.target_normals = patch_target_normals(normals_before, patches, searches, &hints);
   }
   stats.patches = patch_count;
   // A segmented mesh is scored inside its patches: it is meant to gather
@@ -341,7 +347,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
         result.curves = fit_patch_curves(normals, areas, patches, options.curve_options);
         searches = patch_curve_searches(result.curves, patch_count);
       }
-      result.target_normals = patch_target_normals(normals, patches, searches);
+      result.target_normals = patch_target_normals(normals, patches, searches, &hints);
       if (smoother) result.target_normals = smoother->smooth(result.target_normals, areas, smoothing_rounds);
       const auto refactor_start = Clock::now();
       deformation.set_targets(result.target_normals);

@@ -114,8 +114,10 @@ std::vector<CurveSearch> patch_curve_searches(const std::vector<PatchCurve>& cur
 
 // The target normal of every face: its nearest point on its own patch's curves.
 //   normals: per face; patches: from faces_of_patches; searches: from
-//   patch_curve_searches, one per patch.
+//   patch_curve_searches, one per patch; hints: null, or the caller's scratch
+//   kept between calls (CurveSearch::nearest), one entry per patch.
 Normals patch_target_normals(const Normals& normals, const PatchFaces& patches,
-                             const std::vector<CurveSearch>& searches);
+                             const std::vector<CurveSearch>& searches,
+                             std::vector<std::vector<int>>* hints = nullptr);
 
 }  // namespace developable

@@ -1,5 +1,7 @@
 #include "deformation.h"
 
+#include "measures.h"
+
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -228,7 +230,15 @@ void NormalGuidedDeformation::set_targets(const Normals& targets) {
 }
 
 Positions NormalGuidedDeformation::step(const Positions& current) const {
-  return formulation_ == Formulation::coupled ? step_coupled(current) : step_decoupled(current);
+  if (formulation_ == Formulation::coupled) return step_coupled(current);
+  return step_decoupled(current, face_normals(current, triangles_));
+}
+
+Positions NormalGuidedDeformation::step(const Positions& current, const Normals& normals) const {
+  if (formulation_ == Formulation::coupled) return step_coupled(current);
+  if (normals.rows() != triangles_.rows())
+    throw EngineError(Status::internal_error, "deformation: one normal per triangle");
+  return step_decoupled(current, normals);
 }
 
 Positions NormalGuidedDeformation::step_coupled(const Positions& current) const {
@@ -256,14 +266,14 @@ Positions NormalGuidedDeformation::step_coupled(const Positions& current) const 
   return next;
 }
 
-Positions NormalGuidedDeformation::step_decoupled(const Positions& current) const {
+Positions NormalGuidedDeformation::step_decoupled(const Positions& current, const Normals& normals) const {
   const double fraction = omega_ * omega_ / (1.0 + omega_ * omega_);
   Eigen::Matrix<double, Eigen::Dynamic, 3> rhs =
       Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(free_count_, 3);
   for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
     const int i = triangles_(f, 0), j = triangles_(f, 1), k = triangles_(f, 2);
     const Eigen::Vector3d pi = vertex(current, i), pj = vertex(current, j), pk = vertex(current, k);
-    const Eigen::Vector3d normal = (pj - pi).cross(pk - pi).normalized();
+    const Eigen::Vector3d normal = normals.row(f).transpose();
     const Eigen::Matrix3d rotation =
         partial_rotation(normal, targets_.row(f).transpose(), fraction);
     const Eigen::Vector3d eij = rotation * (pj - pi), eik = rotation * (pk - pi);

@@ -76,11 +76,16 @@ class NormalGuidedDeformation {
   // Pinned vertices are copied from `current`. Throws
   // EngineError(numerical_failure) when the solve fails or gives non-finite values.
   Positions step(const Positions& current) const;
+  // The same, given the unit face normals of `current` (face_normals in
+  // measures.h, one row per triangle), which the refit loop has at hand: the
+  // decoupled formulation rotates each triangle from its normal and would
+  // otherwise compute them again; the coupled one ignores them.
+  Positions step(const Positions& current, const Normals& normals) const;
 
  private:
   void factor_coupled();
   Positions step_coupled(const Positions& current) const;
-  Positions step_decoupled(const Positions& current) const;
+  Positions step_decoupled(const Positions& current, const Normals& normals) const;
 
   using Solver = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>;
 

@@ -334,12 +334,15 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   double best_score = score_of(result.defect_before);
   std::vector<double> best_history;
   stats.stop_reason = StopReason::iteration_limit;
+  // Face normals of `current` in the refit mode, shared by the refit, the
+  // projection and the step (the input's at the first iteration).
+  Normals normals = normals_before;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report(0.1 + 0.9 * (iteration - 1) / options.max_iterations, "deformation");
     if (mode == Mode::refit && iteration > 1) {
       // Refitting the curves is the costly part; between refits the normals
       // are only projected again onto the curves they have.
-      const Normals normals = face_normals(current, triangles);
+      normals = face_normals(current, triangles);
       const bool refit = (iteration - 1) % options.refit_interval == 0;
       const Eigen::VectorXd areas =
           refit || smoothing_rounds > 0 ? face_areas(current, triangles) : Eigen::VectorXd();
@@ -353,7 +356,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
       deformation.set_targets(result.target_normals);
       if (formulation == Formulation::coupled) stats.time_decompose_ms += elapsed_ms(refactor_start);
     }
-    current = deformation.step(current);
+    current = mode == Mode::refit ? deformation.step(current, normals) : deformation.step(current);
     if (limit > 0.0) clamp_to_tolerance(current, positions, limit);
     stats.iterations = iteration;
 

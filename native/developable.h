@@ -65,9 +65,9 @@ enum {
   DEV_STOP_CONVERGED = 1,           /* mean |defect| changed by less than stop_relative_change
                                        (one patch only; a segmented mesh stops by stalling) */
   DEV_STOP_ITERATION_LIMIT = 2,     /* max_iterations reached */
-  DEV_STOP_STALLED = 3              /* the best score improved by less than 1 % in 10 iterations (30 on
-                                       a segmented mesh). The score is the mean |defect|; on a
-                                       segmented mesh, the median |defect| inside the patches */
+  DEV_STOP_STALLED = 3              /* the best score improved by less than 5 % in 10 iterations (1 %
+                                       in 30 on a segmented mesh). The score is the mean |defect|; on
+                                       a segmented mesh, the median |defect| inside the patches */
 };
 
 /* Seam treatment for segmented meshes (issue: segmentation). */

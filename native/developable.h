@@ -63,11 +63,13 @@ enum {
 enum {
   DEV_STOP_ALREADY_DEVELOPABLE = 0, /* mean |defect| already below developable_threshold: mesh untouched */
   DEV_STOP_CONVERGED = 1,           /* mean |defect| changed by less than stop_relative_change
-                                       (one patch only; a segmented mesh stops by stalling) */
+                                       (not on a segmented mesh in the refit mode, which stops
+                                       by stalling) */
   DEV_STOP_ITERATION_LIMIT = 2,     /* max_iterations reached */
   DEV_STOP_STALLED = 3              /* the best score improved by less than 5 % in 10 iterations (1 %
-                                       in 30 on a segmented mesh). The score is the mean |defect|; on
-                                       a segmented mesh, the median |defect| inside the patches */
+                                       in 30 on a segmented mesh in the refit mode). The score is the
+                                       mean |defect|; on a segmented mesh in the refit mode, the
+                                       median |defect| inside the patches */
 };
 
 /* Seam treatment for segmented meshes (issue: segmentation). */
@@ -98,7 +100,7 @@ typedef struct dev_params {
                                  uses the coupled system, as the paper does. */
   int32_t target_smoothing;   /* rounds of averaging the target normals over neighbouring faces of
                                  the same patch, 0-100; -1 = automatic (default): 1 on a segmented
-                                 mesh, 0 on a single patch. */
+                                 mesh in the refit mode, else 0. */
 } dev_params;
 
 typedef struct dev_stats {

@@ -281,13 +281,16 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     result.target_normals = patch_target_normals(normals_before, patches, searches, &hints);
   }
   stats.patches = patch_count;
-  // A segmented mesh is scored inside its patches: it is meant to gather
-  // its curvature on the seams (see IterateScore).
+  // The refit mode treats a segmented mesh as pieces meeting at seams: it is
+  // scored inside its patches, where the curvature should leave (see
+  // IterateScore), and its targets are smoothed. The paper mode stays the
+  // paper's: E^mean and raw targets whatever the patches.
+  const bool piecewise = patch_count > 1 && options.mode == Mode::refit;
   std::vector<bool> scored = result.interior;
-  if (patch_count > 1) {
-    const std::vector<bool> border = patch_border_vertices(triangles, result.patch_ids, n);
-    if (options.seams == Seams::pinned)
-      for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = pinned[v] || border[v];
+  const std::vector<bool> border = patch_border_vertices(triangles, result.patch_ids, n);
+  if (options.seams == Seams::pinned)
+    for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = pinned[v] || border[v];
+  if (piecewise) {
     std::vector<bool> inside = scored;
     bool any_inside = false;
     for (size_t v = 0; v < inside.size(); ++v) {
@@ -296,9 +299,9 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     }
     if (any_inside) scored = std::move(inside);
   }
-  const IterateScore score_of(std::move(scored), patch_count > 1);
+  const IterateScore score_of(std::move(scored), piecewise);
   const int smoothing_rounds =
-      options.target_smoothing >= 0 ? options.target_smoothing : (patch_count > 1 ? 1 : 0);
+      options.target_smoothing >= 0 ? options.target_smoothing : (piecewise ? 1 : 0);
   std::optional<TargetSmoother> smoother;
   if (smoothing_rounds > 0) {
     smoother.emplace(triangles, result.patch_ids);
@@ -379,7 +382,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     // iterations on human_woman); the stall rule below ends those runs.
     const double change = std::abs(now.mean_abs - previous_mean) / std::max(previous_mean, 1e-300);
     previous_mean = now.mean_abs;
-    if ((patch_count == 1 && change < options.stop_relative_change) ||
+    if ((!piecewise && change < options.stop_relative_change) ||
         now.mean_abs <= options.developable_threshold) {
       stats.stop_reason = StopReason::converged;
       break;
@@ -388,8 +391,8 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     // stopped getting better, while the free boundary slowly drifts: stop
     // when the best score stopped gaining (see kStallImprovement).
     best_history.push_back(best_score);
-    const size_t window = patch_count > 1 ? kSegmentedStallIterations : kStallIterations;
-    const double improvement = patch_count > 1 ? kSegmentedStallImprovement : kStallImprovement;
+    const size_t window = piecewise ? kSegmentedStallIterations : kStallIterations;
+    const double improvement = piecewise ? kSegmentedStallImprovement : kStallImprovement;
     if (best_history.size() > window &&
         best_history[best_history.size() - 1 - window] - best_score <
             improvement * best_history[best_history.size() - 1 - window]) {

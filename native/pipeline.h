@@ -49,7 +49,7 @@ struct PipelineOptions {
   Seams seams = Seams::free;
   IdealCurveOptions curve_options;
   // Rounds of target normal smoothing inside each patch (target_smoothing.h);
-  // -1 automatic: 1 on a segmented mesh, 0 on a single patch.
+  // -1 automatic: 1 on a segmented mesh in the refit mode, else 0.
   int target_smoothing = -1;
 };
 
@@ -89,8 +89,9 @@ struct PipelineResult {
 //   pinned: empty, or one flag per vertex; pinned vertices never move.
 // The result keeps the best iterate (the input when nothing improves it),
 // every vertex within E_allow of its input position. "Best" is the lowest mean
-// |defect| over the interior vertices; on a segmented mesh, over those inside
-// the patches, because there the curvature is meant to gather on the seams.
+// |defect| over the interior vertices; on a segmented mesh in the refit mode,
+// the median over those inside the patches, because there the curvature is
+// meant to gather on the seams.
 // Throws EngineError: the input's status, no_interior_vertex, no_free_vertex,
 // invalid_argument, cancelled (via progress), numerical_failure.
 PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,

@@ -41,7 +41,7 @@ const char* const usage_text =
     "  --segment-error X    largest cone-fitting error of a patch, rad\n"
     "  --seams free|pinned  seams move freely (default) or are pinned (the paper)\n"
     "  --target-smoothing N rounds of averaging the target normals inside each patch\n"
-    "                       (default: 1 on a segmented mesh, 0 on one patch)\n"
+    "                       (default: 1 on a segmented mesh in refit mode, else 0)\n"
     "  --report FILE.json   write the run's figures, patch ids and curves as JSON\n"
     "  --quiet              no progress on stderr\n"
     "  --help               this text\n"

@@ -76,7 +76,14 @@ def test_raw_numbers_are_finite(quick_run):
         for key in ("mean_before", "mean_after", "max_after", "flat_after", "hausdorff", "t_T",
                     "peak_mib"):
             assert np.isfinite(r[key]), (r["label"], key)
-        assert r["mean_after"] <= r["mean_before"] * (1 + 1e-9) or r["section"] == "modes"
+        # Never worse than the input by the engine's score: E^mean, or on a segmented
+        # mesh in the refit mode the median |defect| inside the patches, which the
+        # benchmark does not record; there the flat share (what it follows) must not fall.
+        # (The "modes" rows try other settings and are not held to this.)
+        if r["section"] != "modes" and r["patches"] > 1 and r.get("mode") != "paper":
+            assert r["flat_after"] >= r["flat_before"], r["label"]
+        elif r["section"] != "modes":
+            assert r["mean_after"] <= r["mean_before"] * (1 + 1e-9), r["label"]
         assert 0 <= r["hausdorff"] < 1
     sections = {r["section"] for r in rows}
     assert {"real", "scaling", "paper_tables", "modes"} <= sections

@@ -42,15 +42,41 @@ Eigen::Matrix3d decoupled_rows(double centroid_weight) {
 
 Eigen::Vector3d vertex(const Positions& p, int v) { return p.row(v).transpose(); }
 
-// x = A^-1 b for the three coordinate columns of b at once, from A's
-// factorisation P A P^T = L D L^T. Eigen's own solve with a 3-column right
-// hand side sweeps L once per column; this one sweeps it once for all three,
-// with x, y and z of an unknown side by side. Above ~100k faces L no longer
-// fits in the cache, and reading it once makes the solve about twice as
-// fast. Same operations in the same order per column: bit-identical to
-// Eigen's solve.
-Positions solve_three_columns(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& solver,
-                              const Positions& b) {
+// Rotation turning unit `from` toward unit `to` by about `fraction` of the
+// angle between them: onto their normalised blend d = (1 - fraction) from +
+// fraction to, by Rodrigues' formula R = I + [v]x + [v]x^2 / (1 + c) with
+// v = from x d, c = from . d. No trigonometry (an atan2 and a sincos per face
+// were a fifth of an iteration); the turned angle is fraction * angle to
+// O(angle^3): 1.3 % more at 90 degrees for fraction 25/26. 1 + c is taken as
+// |from + d|^2 / 2, which does not cancel. Identity when d is undefined or
+// (anti)parallel to `from` (within ~1e-6 rad of pi the axis is noise).
+Eigen::Matrix3d partial_rotation(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                 double fraction) {
+  const Eigen::Vector3d blend = (1.0 - fraction) * from + fraction * to;
+  const double length = blend.norm();
+  if (!(length > 0.0)) return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d d = blend / length;
+  const double one_plus_cos = 0.5 * (from + d).squaredNorm();
+  if (one_plus_cos < 1e-12) return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d v = from.cross(d);
+  Eigen::Matrix3d cross;
+  cross << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  // [v]x^2 = v v^T - |v|^2 I.
+  const double scale = 1.0 / one_plus_cos;
+  return (1.0 - scale * v.squaredNorm()) * Eigen::Matrix3d::Identity() + cross +
+         (scale * v) * v.transpose();
+}
+
+template <typename Derived>
+void check_finite(const Eigen::MatrixBase<Derived>& x) {
+  if (!x.allFinite())
+    throw EngineError(Status::numerical_failure,
+                      "the linear solve produced non-finite positions");
+}
+
+}  // namespace
+
+Positions solve_three_columns(const CholeskySolver& solver, const Positions& b) {
   const Eigen::SparseMatrix<double>& lower = solver.matrixL().nestedExpression();  // unit diagonal implied
   const Eigen::VectorXd& diagonal = solver.vectorD();
   const int* permutation = solver.permutationP().indices().data();
@@ -92,40 +118,6 @@ Positions solve_three_columns(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<do
   for (Eigen::Index i = 0; i < n; ++i) x.row(i) = y.row(permutation[i]);
   return x;
 }
-
-// Rotation turning unit `from` toward unit `to` by about `fraction` of the
-// angle between them: onto their normalised blend d = (1 - fraction) from +
-// fraction to, by Rodrigues' formula R = I + [v]x + [v]x^2 / (1 + c) with
-// v = from x d, c = from . d. No trigonometry (an atan2 and a sincos per face
-// were a fifth of an iteration); the turned angle is fraction * angle to
-// O(angle^3): 1.3 % more at 90 degrees for fraction 25/26. 1 + c is taken as
-// |from + d|^2 / 2, which does not cancel. Identity when d is undefined or
-// (anti)parallel to `from` (within ~1e-6 rad of pi the axis is noise).
-Eigen::Matrix3d partial_rotation(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
-                                 double fraction) {
-  const Eigen::Vector3d blend = (1.0 - fraction) * from + fraction * to;
-  const double length = blend.norm();
-  if (!(length > 0.0)) return Eigen::Matrix3d::Identity();
-  const Eigen::Vector3d d = blend / length;
-  const double one_plus_cos = 0.5 * (from + d).squaredNorm();
-  if (one_plus_cos < 1e-12) return Eigen::Matrix3d::Identity();
-  const Eigen::Vector3d v = from.cross(d);
-  Eigen::Matrix3d cross;
-  cross << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  // [v]x^2 = v v^T - |v|^2 I.
-  const double scale = 1.0 / one_plus_cos;
-  return (1.0 - scale * v.squaredNorm()) * Eigen::Matrix3d::Identity() + cross +
-         (scale * v) * v.transpose();
-}
-
-template <typename Derived>
-void check_finite(const Eigen::MatrixBase<Derived>& x) {
-  if (!x.allFinite())
-    throw EngineError(Status::numerical_failure,
-                      "the linear solve produced non-finite positions");
-}
-
-}  // namespace
 
 Eigen::VectorXd mls_row_weights(const Positions& positions, const Triangles& triangles,
                                 const std::vector<bool>& pinned, double average_edge_length) {
@@ -209,7 +201,7 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles,
     throw EngineError(Status::no_free_vertex,
                       "every vertex is pinned: there is nothing the deformation may move");
 
-  solver_ = std::make_unique<Solver>();
+  solver_ = std::make_unique<CholeskySolver>();
   if (formulation_ == Formulation::coupled) {
     factor_coupled();
     return;

@@ -40,6 +40,20 @@ namespace developable {
 
 enum class Formulation { coupled, decoupled };
 
+// The sparse Cholesky factorisation of both formulations: P A P^T = L D L^T
+// with Eigen's approximate-minimum-degree ordering P (bench/solvers.py
+// measures it against CHOLMOD; docs/solvers.md).
+using CholeskySolver = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>;
+
+// x = A^-1 b for the three coordinate columns of b at once, given A's
+// factorisation `solver` (n x n, computed); b has n rows. Eigen's own solve
+// with a 3-column right-hand side sweeps L once per column; this one sweeps
+// it once for all three, with x, y and z of an unknown side by side. Above
+// ~100k faces L no longer fits in the cache and reading it once makes the
+// solve about twice as fast. Same operations in the same order per column as
+// Eigen's solve: the result is bit-identical to solver.solve(b).
+Positions solve_three_columns(const CholeskySolver& solver, const Positions& b);
+
 // Eq. 5's weight per triangle, applied to the triangle's rows:
 //   w(v) = 1 / (d(v)^2 + eps^2),  d = edge-path distance from v to the nearest
 //   pinned vertex in units of AE (so the weights do not depend on the mesh's
@@ -82,12 +96,16 @@ class NormalGuidedDeformation {
   // otherwise compute them again; the coupled one ignores them.
   Positions step(const Positions& current, const Normals& normals) const;
 
+  // The normal matrix on the free unknowns (n_free x n_free in the decoupled
+  // formulation, 3 n_free square in the coupled one) and its factorisation,
+  // for benchmarks of the linear solve.
+  const Eigen::SparseMatrix<double>& system_matrix() const { return free_free_; }
+  const CholeskySolver& factorization() const { return *solver_; }
+
  private:
   void factor_coupled();
   Positions step_coupled(const Positions& current) const;
   Positions step_decoupled(const Positions& current, const Normals& normals) const;
-
-  using Solver = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>;
 
   Triangles triangles_;
   Eigen::VectorXd row_weights_;
@@ -99,7 +117,7 @@ class NormalGuidedDeformation {
   Eigen::Index free_count_ = 0;
   Eigen::SparseMatrix<double> free_free_;    // normal matrix on the free unknowns
   Eigen::SparseMatrix<double> free_pinned_;  // its coupling to the pinned coordinates
-  std::unique_ptr<Solver> solver_;
+  std::unique_ptr<CholeskySolver> solver_;
 };
 
 }  // namespace developable

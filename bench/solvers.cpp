@@ -6,7 +6,7 @@
 // rows - 1 = cols / 2, cols^2 faces, uniform noise of 0.03 grid spacings;
 // own random numbers, so not the same noise as numpy's, but the decoupled
 // matrix depends only on the triangles). NormalGuidedDeformation is set up as
-// the refit pipeline does (native/pipeline.cpp: decoupled, lambda = 0.3,
+// the refit pipeline does (native/pipeline.cpp: decoupled, kRefitCentroidWeight,
 // default omega = 5, unit row weights, no pins, targets = face normals), which gives
 // the engine's n x n SPD matrix A (n = vertices) and, from one engine step x1,
 // the right-hand side b = A x1 of the first iteration (n x 3).
@@ -52,7 +52,6 @@ using developable::Triangles;
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kRefitCentroidWeight = 0.3;  // as in native/pipeline.cpp
 
 struct Band {
   Positions positions;
@@ -196,7 +195,7 @@ Problem engine_problem(long faces) {
   const developable::NormalGuidedDeformation deformation(
       triangles, std::vector<bool>(static_cast<size_t>(positions.rows()), false),
       Eigen::VectorXd::Ones(triangles.rows()), developable::PipelineOptions().omega,
-      kRefitCentroidWeight, developable::Formulation::decoupled, normals);
+      developable::kRefitCentroidWeight, developable::Formulation::decoupled, normals);
   problem.matrix = deformation.system_matrix();
   problem.rhs = problem.matrix * deformation.step(positions, normals);
   return problem;

@@ -30,9 +30,6 @@ constexpr double kStallImprovement = 0.05;
 constexpr size_t kSegmentedStallIterations = 30;
 constexpr double kSegmentedStallImprovement = 0.01;
 
-// Weight of the centroid rows in the refit mode (the paper's, 1, in its own
-// mode); see deformation.h.
-constexpr double kRefitCentroidWeight = 0.3;
 
 double elapsed_ms(Clock::time_point since) {
   return std::chrono::duration<double, std::milli>(Clock::now() - since).count();

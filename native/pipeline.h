@@ -30,6 +30,10 @@ enum class Seams {
   pinned,  // the paper's: vertices on patch borders are pinned
 };
 
+// Weight of the centroid rows (lambda in deformation.h) in the refit mode;
+// the paper mode keeps the paper's 1. docs/method.md has the measurements.
+inline constexpr double kRefitCentroidWeight = 0.3;
+
 enum class StopReason { already_developable = 0, converged = 1, iteration_limit = 2, stalled = 3 };
 
 struct PipelineOptions {

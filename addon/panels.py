@@ -10,18 +10,38 @@ from .properties import ENGINE_PARAMETERS, PIN_PARAMETERS
 
 CATEGORY = "Developable"
 
-# Expected run time (docs/hardening.md, "Limits"): measured on 2 cores, about
-#   decoupled solver: faces * (25 us + iterations * 5 us)
-#   coupled / paper:  faces * iterations * 1 ms (refactored every iteration)
-# with ~30 iterations for a typical run (max_iterations caps it).
+# Expected run time on 2 cores, fitted to docs/benchmarks.md (10k-1M faces):
+#   decoupled factorisation   faces * 3 us * (faces / 1e5)^0.35, once
+#   one iteration             faces * 0.25 us on one patch, ~0.6 us segmented
+#   iterations                ~60 on one patch (stall rule), ~300 segmented
+#   coupled factorisation     faces * 30 us * (faces / 1e4)^0.4: once in paper
+#                             mode, every iteration with the coupled solver
+# max_iterations caps the iterations. Automatic segmentation is decided by the
+# engine, so the panel gives the range between the one-patch and the
+# segmented run.
 LARGE_MESH_FACES = 100_000
 
 
 def expected_seconds(faces, settings):
-    iterations = min(int(settings.max_iterations), 30)
-    if settings.mode == 'PAPER' or settings.solver == 'COUPLED':
-        return faces * iterations * 1e-3
-    return faces * (25e-6 + iterations * 5e-6)
+    """(shortest, longest) expected run time in seconds."""
+    cap = int(settings.max_iterations)
+    coupled = faces * 30e-6 * (faces / 1e4) ** 0.4
+    if settings.mode == 'PAPER':
+        return (coupled,) * 2
+    decoupled = faces * 3e-6 * (faces / 1e5) ** 0.35
+
+    def run(iterations, per_face):
+        iterations = min(cap, iterations)
+        if settings.solver == 'COUPLED':
+            return iterations * (coupled + faces * per_face)
+        return decoupled + iterations * faces * per_face
+
+    one_patch, segmented = run(60, 0.25e-6), run(300, 0.6e-6)
+    if settings.segmentation == 'OFF':
+        return one_patch, one_patch
+    if settings.segmentation == 'ON' or settings.target_patches > 1:
+        return segmented, segmented
+    return one_patch, segmented
 
 
 def _duration_text(seconds):
@@ -103,8 +123,9 @@ class VIEW3D_PT_developable(Panel):
             # else 2 per polygon (quads); never computed here, drawing must be cheap
             faces = len(obj.data.loop_triangles) or 2 * len(obj.data.polygons)
             if faces >= LARGE_MESH_FACES:
-                layout.label(text="Large mesh: expect about %s"
-                             % _duration_text(expected_seconds(faces, settings)), icon='TIME')
+                shortest, longest = (_duration_text(t) for t in expected_seconds(faces, settings))
+                expected = shortest if shortest == longest else "%s to %s" % (shortest, longest)
+                layout.label(text="Large mesh: expect about %s" % expected, icon='TIME')
 
 
 class VIEW3D_PT_developable_parameters(Panel):

@@ -111,8 +111,8 @@ def engine_property_definitions():
             name="Target Smoothing", default=-1, min=-1, max=100, soft_max=5,
             description="Rounds of averaging each face's objective normal with those of its "
             "neighbours in the same patch, so that a doubly curved patch follows a smooth "
-            "target instead of crumpling; -1 = automatic (1 on a segmented mesh in Refit mode, "
-            "else 0)"),
+            "target instead of crumpling; -1 = automatic (Refit mode: 1 on a segmented mesh; "
+            "on one patch 0, then 1 if the run stalls with much curvature left)"),
     }
 
 

@@ -99,8 +99,9 @@ typedef struct dev_params {
   int32_t solver;             /* DEV_SOLVER_*. Default DEV_SOLVER_DECOUPLED; DEV_MODE_PAPER always
                                  uses the coupled system, as the paper does. */
   int32_t target_smoothing;   /* rounds of averaging the target normals over neighbouring faces of
-                                 the same patch, 0-100; -1 = automatic (default): 1 on a segmented
-                                 mesh in the refit mode, else 0. */
+                                 the same patch, 0-100; -1 = automatic (default): in the refit mode 1
+                                 on a segmented mesh; on one patch 0, then 1 from the best iterate
+                                 if the run stalls with more than 10 % of its curvature left. */
 } dev_params;
 
 typedef struct dev_stats {

@@ -53,7 +53,9 @@ struct PipelineOptions {
   Seams seams = Seams::free;
   IdealCurveOptions curve_options;
   // Rounds of target normal smoothing inside each patch (target_smoothing.h);
-  // -1 automatic: 1 on a segmented mesh in the refit mode, else 0.
+  // -1 automatic: in the refit mode 1 on a segmented mesh; on one patch 0,
+  // then 1 from the best iterate if the run stalls with more than 10 % of its
+  // score left (kSmoothedPhaseShare in pipeline.cpp).
   int target_smoothing = -1;
 };
 

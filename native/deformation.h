@@ -97,10 +97,9 @@ class NormalGuidedDeformation {
   Positions step(const Positions& current, const Normals& normals) const;
 
   // The normal matrix on the free unknowns (n_free x n_free in the decoupled
-  // formulation, 3 n_free square in the coupled one) and its factorisation,
-  // for benchmarks of the linear solve.
+  // formulation, 3 n_free square in the coupled one), for benchmarks of the
+  // linear solve (bench/solvers.cpp).
   const Eigen::SparseMatrix<double>& system_matrix() const { return free_free_; }
-  const CholeskySolver& factorization() const { return *solver_; }
 
  private:
   void factor_coupled();

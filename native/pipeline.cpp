@@ -39,7 +39,6 @@ constexpr double kSegmentedStallImprovement = 0.01;
 // docs/method.md, "Target smoothing on single patches".
 constexpr double kSmoothedPhaseShare = 0.1;
 
-
 double elapsed_ms(Clock::time_point since) {
   return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
 }

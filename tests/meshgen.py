@@ -2,6 +2,9 @@
 the paper's curved cone. Each returns (positions float64 (n, 3), triangles
 int32 (m, 3)); grids are triangulated with alternating diagonals so that no
 direction is favoured."""
+import importlib.util
+import pathlib
+
 import numpy as np
 
 
@@ -57,6 +60,17 @@ def curved_cone():
     (720 v, 1280 f), slightly bulged: mean |defect| 2.47e-3 and AE 0.118,
     against the paper's 2.498e-3 and 0.1169."""
     return cone(rows=9, cols=80, r0=1.36, r1=0.68, height=0.72, bulge=0.066)
+
+
+def demo_cone_band():
+    """The run command's demo mesh (addon/demo.py, which needs only numpy to
+    import), its quads split in two."""
+    path = pathlib.Path(__file__).resolve().parent.parent / "addon" / "demo.py"
+    spec = importlib.util.spec_from_file_location("addon_demo", path)
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    positions, quads = demo.cone_band()
+    return positions, np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]).astype(np.int32)
 
 
 def add_noise(positions, amplitude, seed=1):

@@ -1,7 +1,4 @@
 """The engine through its C ABI: quality bounds, pins, tolerance, modes."""
-import importlib.util
-import pathlib
-
 import numpy as np
 import pytest
 
@@ -48,20 +45,10 @@ def test_noisy_closed_cylinder_becomes_developable(engine):
         0.01 * geometry.bbox_diagonal(positions)
 
 
-def demo_cone_band():
-    """The run command's demo mesh (addon/demo.py, numpy only), quads split in two."""
-    path = pathlib.Path(__file__).resolve().parent.parent / "addon" / "demo.py"
-    spec = importlib.util.spec_from_file_location("addon_demo", path)
-    demo = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(demo)
-    positions, quads = demo.cone_band()
-    return positions, np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
-
-
 def test_stalled_one_patch_run_goes_on_with_smoothed_targets(engine):
     """Noise on a bulged band stalls the plain targets at about -80 %; the run
     then goes on with smoothed targets (pipeline.cpp, kSmoothedPhaseShare)."""
-    positions, triangles = demo_cone_band()
+    positions, triangles = meshgen.demo_cone_band()
     result = engine.run(positions, triangles)
     plain = engine.run(positions, triangles, target_smoothing=0)
     s = result.stats

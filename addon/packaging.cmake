@@ -4,9 +4,9 @@
 #   cmake --build build --target addon_zip
 # which writes build/dist/developable_mesh-<version>-linux-x64.zip holding one
 # folder, developable_mesh/, with the Python package, blender_manifest.toml and
-# the native library plus every shared library it needs beyond the C/C++
-# runtimes (OpenMesh's libOpenMeshCore.so.9.0 ...). The engine's RUNPATH is
-# $ORIGIN, so those are found beside it.
+# the native library. The library needs only the C/C++ runtimes; should it
+# ever link anything else, that is copied beside it (and the build fails on a
+# dependency it cannot resolve).
 #
 # The same file is also the build-time script (cmake -P) that stages and zips.
 

@@ -8,7 +8,7 @@ REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${DEVELOPABLE_BUILD_DIR:-$REPO/build}
 
 # Debian packages the build, the add-on and the tests need.
-packages=(cmake g++ make libeigen3-dev libopenmesh-dev python3-pytest python3-numpy python3-scipy blender xvfb xauth zip
+packages=(cmake g++ make libeigen3-dev libopenmesh-dev libgtest-dev python3-pytest python3-numpy python3-scipy blender xvfb xauth zip
           clang libclang-rt-14-dev)  # clang: the fuzz run and fuzz_replay (tests/test_hardening*.py)
 missing=()
 for p in "${packages[@]}"; do

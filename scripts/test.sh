@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs every test: installs what is missing, builds, then pytest (engine,
-# tool, add-on in a real Blender, benchmark smoke test).
+# Runs every test: installs what is missing, builds, then pytest (the C++
+# unit tests through ctest, engine, tool, add-on in a real Blender, benchmark smoke test).
 #   bash scripts/test.sh [pytest arguments]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"

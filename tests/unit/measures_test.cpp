@@ -1,0 +1,91 @@
+// Stage 2, measures.h: normals, areas, AE, angle defects on meshes whose
+// values are known in closed form.
+#include "measures.h"
+#include "mesh_input.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+namespace developable {
+namespace {
+
+TEST(Measures, FlatGridHasZeroDefectEverywhere) {
+  const auto m = test::plane(7, 9);
+  const auto interior = interior_vertices(m.positions, m.triangles);
+  const Eigen::VectorXd defect = angle_defects(m.positions, m.triangles, interior);
+  int interior_count = 0;
+  for (Eigen::Index v = 0; v < defect.size(); ++v) {
+    EXPECT_NEAR(defect[v], 0.0, 1e-12) << "vertex " << v;
+    interior_count += interior[v];
+  }
+  EXPECT_EQ(interior_count, 5 * 7);  // the grid's inner vertices
+}
+
+TEST(Measures, CubeCornerDefectIsHalfPi) {
+  const auto m = test::cube();
+  const auto interior = interior_vertices(m.positions, m.triangles);
+  const Eigen::VectorXd defect = angle_defects(m.positions, m.triangles, interior);
+  for (Eigen::Index v = 0; v < 8; ++v) {
+    EXPECT_TRUE(interior[v]);
+    EXPECT_NEAR(defect[v], M_PI / 2, 1e-12) << "vertex " << v;
+  }
+}
+
+TEST(Measures, GaussBonnetOnClosedMeshes) {
+  // The defects of a closed genus-0 surface sum to 2 pi chi = 4 pi, whatever
+  // the shape: the cube and a randomly perturbed cube.
+  for (unsigned seed = 0; seed < 5; ++seed) {
+    auto m = test::cube();
+    if (seed > 0) test::add_noise(m.positions, 0.2, seed);
+    const auto interior = interior_vertices(m.positions, m.triangles);
+    EXPECT_NEAR(angle_defects(m.positions, m.triangles, interior).sum(), 4 * M_PI, 1e-10)
+        << "seed " << seed;
+  }
+}
+
+TEST(Measures, BoundaryVerticesGetZeroDefect) {
+  auto m = test::cone();
+  const auto interior = interior_vertices(m.positions, m.triangles);
+  const Eigen::VectorXd defect = angle_defects(m.positions, m.triangles, interior);
+  const auto boundary = boundary_vertices(m.positions, m.triangles);
+  for (Eigen::Index v = 0; v < defect.size(); ++v) {
+    EXPECT_NE(interior[v], boundary[v]);
+    if (!interior[v]) {
+      EXPECT_EQ(defect[v], 0.0);
+    }
+  }
+}
+
+TEST(Measures, NormalsAreasAndEdgeLengthOfThePlane) {
+  const auto m = test::plane(3, 3);  // 2 x 2 cells of 0.5 x 0.5
+  const Normals n = face_normals(m.positions, m.triangles);
+  const Eigen::VectorXd a = face_areas(m.positions, m.triangles);
+  for (Eigen::Index f = 0; f < n.rows(); ++f) {
+    EXPECT_NEAR((n.row(f) - Eigen::RowVector3d(0, 0, 1)).norm(), 0.0, 1e-15);
+    EXPECT_NEAR(a[f], 0.125, 1e-15);
+  }
+  // 12 axis edges of 0.5 and 4 diagonals of 0.5 sqrt 2
+  EXPECT_NEAR(average_edge_length(m.positions, m.triangles), (12 * 0.5 + 4 * 0.5 * std::sqrt(2.0)) / 16,
+              1e-15);
+}
+
+TEST(Measures, ZeroAreaTriangleGetsTheZeroNormal) {
+  Positions p(3, 3);
+  p << 0, 0, 0, 1, 0, 0, 2, 0, 0;
+  Triangles t(1, 3);
+  t << 0, 1, 2;
+  EXPECT_EQ(face_normals(p, t).row(0).norm(), 0.0);
+  EXPECT_EQ(face_areas(p, t)[0], 0.0);
+}
+
+TEST(Measures, DefectStatsOverInteriorOnly) {
+  Eigen::VectorXd d(4);
+  d << 0.1, -0.3, 5.0, 0.2;
+  const DefectStats s = defect_stats(d, {true, true, false, true});
+  EXPECT_EQ(s.interior_count, 3);
+  EXPECT_NEAR(s.mean_abs, 0.2, 1e-15);
+  EXPECT_EQ(s.max_abs, 0.3);
+}
+
+}  // namespace
+}  // namespace developable

@@ -12,7 +12,6 @@ import time
 
 import bpy
 import numpy as np
-from bpy.props import IntProperty
 from bpy.types import Operator
 
 from . import gauss_image, mesh_io, native, writeback
@@ -20,15 +19,10 @@ from .properties import (ENGINE_PARAMETERS, PIN_PARAMETERS, engine_property_defi
                          engine_values, pin_property_definitions)
 
 
-# Outcome of the last run in this session ("status": OK/CANCELLED/..., "message"),
-# for scripts that started the modal operator and want to know how it ended.
-LAST_RUN = {}
-
-
 class Job:
     """One engine run on captured buffers; usable synchronously or on a thread."""
 
-    def __init__(self, buffers, pinned, params, cancel_after_progress=-1):
+    def __init__(self, buffers, pinned, params):
         self.buffers = buffers
         self.pinned = pinned
         self.params = params
@@ -37,9 +31,7 @@ class Job:
         self.result = None
         self.error = None          # native.EngineError / LibraryError / other Exception
         self.done = False
-        self.progress_calls = 0
         self._cancel = threading.Event()
-        self._cancel_after = cancel_after_progress
         self._thread = None
         self.started = time.perf_counter()
 
@@ -53,9 +45,6 @@ class Job:
     def _progress(self, fraction, stage):
         self.fraction = fraction
         self.stage = stage
-        self.progress_calls += 1
-        if 0 <= self._cancel_after < self.progress_calls:
-            self._cancel.set()
         return not self._cancel.is_set()
 
     def run(self):
@@ -97,14 +86,7 @@ The result goes into the shape key "Developable"; the base mesh is not changed""
     bl_label = "Make Developable"
     bl_options = {'REGISTER', 'UNDO'}
 
-    __annotations__ = dict(
-        engine_property_definitions(),
-        **pin_property_definitions(),
-        cancel_after_progress=IntProperty(
-            name="Cancel After", default=-1, options={'HIDDEN', 'SKIP_SAVE'},
-            description="Testing: cancel (progress callback returns 0) after this many "
-            "progress reports; -1 never"),
-    )
+    __annotations__ = dict(engine_property_definitions(), **pin_property_definitions())
 
     _job = None
     _timer = None
@@ -144,7 +126,7 @@ The result goes into the shape key "Developable"; the base mesh is not changed""
             pinned |= mesh_io.read_vertex_group(obj, self.pin_group) > 0.0
         self._pinned_count = int(pinned.sum())
         params = engine_values(self)
-        return Job(buffers, pinned if pinned.any() else None, params, self.cancel_after_progress)
+        return Job(buffers, pinned if pinned.any() else None, params)
 
     def _restore_mode(self):
         if getattr(self, "_was_edit", False):
@@ -155,10 +137,6 @@ The result goes into the shape key "Developable"; the base mesh is not changed""
     # -- finishing ----------------------------------------------------------
     def _finish(self, context, job):
         obj = bpy.data.objects.get(self._obj_name)
-        LAST_RUN.clear()
-        LAST_RUN.update(status="OK" if job.error is None else getattr(job.error, "status_name", "ERROR"),
-                        message="" if job.error is None else _error_text(job.error),
-                        progress_calls=job.progress_calls)
         try:
             if job.error is not None:
                 level = {'WARNING'} if (isinstance(job.error, native.EngineError)

@@ -4,7 +4,7 @@
   blender -b -P scripts/batch_developable.py -- IN OUT [options]
 
 IN   .obj / .ply / .stl / .blend, or demo:cone_band / demo:half_cylinder
-     (a generated noisy mesh, see addon/demo.py)
+     (a generated noisy mesh from the repository's devkit/meshes.py)
 OUT  .blend (the object with the "Developable" shape key, the defect colours and
      attributes) or .obj / .ply / .stl (the deformed mesh: shape key applied)
 
@@ -40,7 +40,6 @@ def script_args():
 def load_addon(module_name=None):
     """Enables the add-on; returns its Python package."""
     import addon_utils
-    import importlib
     names = [module_name] if module_name else []
     if not module_name:
         names += [m.__name__ for m in addon_utils.modules()
@@ -81,16 +80,22 @@ def clear_scene():
         bpy.data.objects.remove(ob, do_unlink=True)
 
 
-def import_mesh(path, object_name, addon):
+def demo_object(kind):
+    """A generated noisy mesh from the repository's development kit (not part
+    of the add-on: a user brings their own mesh)."""
+    if REPO not in sys.path:
+        sys.path.insert(0, REPO)
+    from devkit import blender, meshes
+    if kind not in meshes.DEMOS:
+        raise SystemExit("unknown demo mesh %r (%s)" % (kind, ", ".join(sorted(meshes.DEMOS))))
+    clear_scene()
+    return blender.object_from_arrays(kind, *meshes.DEMOS[kind]())
+
+
+def import_mesh(path, object_name):
     ext = os.path.splitext(path)[1].lower()
     if path.startswith("demo:"):
-        clear_scene()
-        kind = path.split(":", 1)[1] or "cone_band"
-        maker = getattr(addon.demo, kind, None)
-        if maker is None:
-            raise SystemExit("unknown demo mesh %r (cone_band, half_cylinder)" % kind)
-        verts, faces = maker()
-        return addon.demo.object_from_arrays(kind, verts, faces)
+        return demo_object(path.split(":", 1)[1] or "cone_band")
     if not os.path.isfile(path):
         raise SystemExit("input file not found: %s" % path)
     if ext == ".blend":
@@ -250,14 +255,13 @@ def main():
     pre.add_argument("--addon-module", default="")
     known, _ = pre.parse_known_args(args_list)
     addon = load_addon(known.addon_module or None)
-    # the package's submodules (demo, writeback, properties) by relative name
-    import importlib
-    for sub in ("demo", "writeback", "properties"):
+    # the package's submodules (writeback, properties) by relative name
+    for sub in ("writeback", "properties"):
         setattr(addon, sub, importlib.import_module(addon.__name__ + "." + sub))
     parser, names = build_parser(addon)
     args = parser.parse_args(args_list)
 
-    ob = import_mesh(args.input, args.object, addon)
+    ob = import_mesh(args.input, args.object)
     # a .blend may have reset the add-on state: make sure the operator is there
     if not hasattr(bpy.types, "MESH_OT_make_developable"):
         addon = load_addon(known.addon_module or None)

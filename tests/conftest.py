@@ -10,6 +10,7 @@ import pytest
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+sys.path.insert(0, str(REPO))  # devkit
 
 import engine as engine_module  # noqa: E402
 

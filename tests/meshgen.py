@@ -2,9 +2,6 @@
 the paper's curved cone. Each returns (positions float64 (n, 3), triangles
 int32 (m, 3)); grids are triangulated with alternating diagonals so that no
 direction is favoured."""
-import importlib.util
-import pathlib
-
 import numpy as np
 
 
@@ -63,14 +60,9 @@ def curved_cone():
 
 
 def demo_cone_band():
-    """The run command's demo mesh (addon/demo.py, which needs only numpy to
-    import), its quads split in two."""
-    path = pathlib.Path(__file__).resolve().parent.parent / "addon" / "demo.py"
-    spec = importlib.util.spec_from_file_location("addon_demo", path)
-    demo = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(demo)
-    positions, quads = demo.cone_band()
-    return positions, np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]).astype(np.int32)
+    """The run command's demo mesh (devkit/meshes.py), its quads split in two."""
+    from devkit.meshes import demo_cone_band as band
+    return band()
 
 
 def add_noise(positions, amplitude, seed=1):

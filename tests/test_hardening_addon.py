@@ -102,7 +102,7 @@ def raw_object(name, verts, faces, edges=()):
 
 
 def half_cylinder():
-    return sc.demo.half_cylinder(nu=16, nv=10)
+    return sc.dk_meshes.half_cylinder(nu=16, nv=10)
 
 
 def case_no_vertices():
@@ -160,7 +160,7 @@ def case_soup():
 
 def case_components():
     v1, f1 = half_cylinder()
-    v2, f2 = sc.demo.cone_band(nu=30, nv=6)
+    v2, f2 = sc.dk_meshes.cone_band(nu=30, nv=6)
     return raw_object("two", np.vstack([v1, v2 + [4, 0, 0]]), list(map(tuple, f1)) +
                       [tuple(q + len(v1)) for q in f2])
 
@@ -208,7 +208,6 @@ def s_bad():
         finally:
             os.environ.pop("DEVELOPABLE_MEMORY_BUDGET_MB", None)
         out[name] = {"result": res, "error": err, "status": status, "words": words,
-                     "last_run": dict(sc.operators.LAST_RUN),
                      "unchanged": snapshot(ob) == before, "before": before, "after": snapshot(ob)}
     emit(out)
 
@@ -255,16 +254,18 @@ def s_cancel_everywhere():
     out = {}
     for earlier in (False, True):
         ob = decorate(sc.fresh("cone_band"), earlier_run=earlier)
-        res, err = sc.run_op()
-        total = sc.operators.LAST_RUN.get("progress_calls", 0)
+        with sc.EngineWatch() as watch:
+            res, err = sc.run_op()
+        total = watch.progress_calls
         cases = []
         for k in sorted(set([0, 1, 2, 3, total // 4, total // 2, 3 * total // 4, total - 2, total - 1])):
             if k < 0:
                 continue
             ob = decorate(sc.fresh("cone_band"), earlier_run=earlier)
             before = snapshot(ob)
-            r, e = sc.run_op(cancel_after_progress=k)
-            cases.append({"k": k, "result": r, "status": sc.operators.LAST_RUN.get("status"),
+            with sc.EngineWatch(cancel_after=k) as watch:
+                r, e = sc.run_op()
+            cases.append({"k": k, "result": r, "status": watch.status,
                           "unchanged": snapshot(ob) == before,
                           "diff": [key for key in before if before[key] != snapshot(ob).get(key)]})
         out["earlier" if earlier else "first"] = {"total": total, "full": res, "cases": cases}
@@ -301,23 +302,22 @@ def s_undo_bits():
 
 
 def s_modal_cancel_bits():
-    cancel_after = int(ARGS[1])
+    watch = sc.EngineWatch(cancel_after=int(ARGS[1]))
 
     def go():
         with bpy.context.temp_override(**_window_override()):
             ob = decorate(sc.fresh("cone_band"), earlier_run=True)
             before = snapshot(ob)
-            sc.operators.LAST_RUN.clear()
-            started = sorted(bpy.ops.mesh.make_developable('INVOKE_DEFAULT',
-                                                           cancel_after_progress=cancel_after))
+            watch.__enter__()  # until the process ends
+            started = sorted(bpy.ops.mesh.make_developable('INVOKE_DEFAULT'))
         waited = [0]
 
         def poll():
             waited[0] += 1
-            if not sc.operators.LAST_RUN and waited[0] < 600:
+            if not watch.modal_finished and waited[0] < 600:
                 return 0.1
             after = snapshot(bpy.data.objects["cone_band"])
-            sc._finish({"started": started, "last_run": dict(sc.operators.LAST_RUN),
+            sc._finish({"started": started, "last_run": watch.outcome(),
                         "unchanged": after == before,
                         "diff": [k for k in before if before[k] != after.get(k)]})
         bpy.app.timers.register(poll, first_interval=0.1)

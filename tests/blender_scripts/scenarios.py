@@ -7,12 +7,16 @@ from the zip into BLENDER_USER_SCRIPTS by the pytest fixture)."""
 import importlib
 import json
 import os
+import pathlib
 import sys
 import traceback
 
 import addon_utils
 import bpy
 import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2]))  # the repository: devkit
+from devkit import blender as dk_blender, meshes as dk_meshes  # noqa: E402
 
 MODULE = "developable_mesh"
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
@@ -36,7 +40,55 @@ def sub(name):
     return importlib.import_module(PKG.__name__ + "." + name)
 
 
-demo, writeback, native, operators = sub("demo"), sub("writeback"), sub("native"), sub("operators")
+writeback, native, operators = sub("writeback"), sub("native"), sub("operators")
+
+
+class EngineWatch:
+    """Watches the add-on's engine runs from outside (the add-on has no test
+    hooks): wraps the add-on's native.run to count the progress reports, to
+    answer "stop" after `cancel_after` of them (what Esc does; -1 never) and
+    to record how the run ended, and the operator's modal() to note when a
+    modal run has finished (written back or not)."""
+
+    def __init__(self, cancel_after=-1):
+        self.cancel_after = cancel_after
+        self.progress_calls = 0
+        self.status = None          # "OK" or the engine's status name, once native.run returned
+        self.modal_finished = False
+        self._run = native.run
+        self._modal = operators.MESH_OT_make_developable.modal
+
+    def __enter__(self):
+        watch = self
+
+        def run(positions, triangles, pinned=None, params=None, progress=None):
+            def counting(fraction, stage):
+                watch.progress_calls += 1
+                go_on = progress(fraction, stage) if progress else True
+                return go_on and not 0 <= watch.cancel_after < watch.progress_calls
+            try:
+                result = watch._run(positions, triangles, pinned, params, counting)
+            except native.EngineError as error:
+                watch.status = error.status_name
+                raise
+            watch.status = "OK"
+            return result
+
+        def modal(op, context, event):
+            result = watch._modal(op, context, event)
+            if not result & {'RUNNING_MODAL', 'PASS_THROUGH'}:
+                watch.modal_finished = True
+            return result
+        native.run = run
+        operators.MESH_OT_make_developable.modal = modal
+        return self
+
+    def __exit__(self, *exc):
+        native.run = self._run
+        operators.MESH_OT_make_developable.modal = self._modal
+
+    def outcome(self):
+        return {"status": self.status, "progress_calls": self.progress_calls}
 
 
 # -- geometry helpers (independent of the add-on) ---------------------------------
@@ -44,8 +96,8 @@ demo, writeback, native, operators = sub("demo"), sub("writeback"), sub("native"
 def fresh(kind="cone_band", name=None):
     for o in list(bpy.data.objects):
         bpy.data.objects.remove(o, do_unlink=True)
-    v, f = getattr(demo, kind)()
-    ob = demo.object_from_arrays(name or kind, v, f)
+    v, f = dk_meshes.DEMOS[kind]()
+    ob = dk_blender.object_from_arrays(name or kind, v, f)
     return ob
 
 
@@ -207,9 +259,10 @@ def s_cancel():
     ob = fresh("cone_band")
     base = coords(ob.data).copy()
     before = state(ob)
-    res, err = run_op(cancel_after_progress=int(ARGS[1]) if len(ARGS) > 1 else 0)
+    with EngineWatch(cancel_after=int(ARGS[1]) if len(ARGS) > 1 else 0) as watch:
+        res, err = run_op()
     emit({"result": res, "error": err, "state_before": before, "state_after": state(ob),
-          "last_run": dict(operators.LAST_RUN),
+          "last_run": watch.outcome(),
           "base_unchanged": bool(np.array_equal(coords(ob.data), base))})
 
 
@@ -271,7 +324,7 @@ def _bad_mesh(kind):
         return ob
     elif kind == "nan":
         # set after creation: Mesh.validate() would zero a NaN coordinate
-        ob = demo.object_from_arrays(kind, *demo.half_cylinder())
+        ob = dk_blender.object_from_arrays(kind, *dk_meshes.half_cylinder())
         co = np.empty(len(ob.data.vertices) * 3, dtype=np.float32)
         ob.data.vertices.foreach_get("co", co)
         co[17 * 3 + 1] = np.nan
@@ -284,7 +337,7 @@ def _bad_mesh(kind):
         f = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4], [1, 5, 2], [1, 3, 6]])
     else:
         raise SystemExit("unknown bad mesh " + kind)
-    return demo.object_from_arrays(kind, v, f)
+    return dk_blender.object_from_arrays(kind, v, f)
 
 
 def s_bad():
@@ -357,24 +410,23 @@ def s_undo():
 
 def s_modal():
     """The interactive path: INVOKE_DEFAULT -> worker thread + modal progress."""
-    cancel_after = int(ARGS[1]) if len(ARGS) > 1 else -1
+    watch = EngineWatch(cancel_after=int(ARGS[1]) if len(ARGS) > 1 else -1)
 
     def go():
         with bpy.context.temp_override(**_window_override()):
             ob = fresh("cone_band")
             base = coords(ob.data).copy()
             before = state(ob)
-            operators.LAST_RUN.clear()
-            started = sorted(bpy.ops.mesh.make_developable('INVOKE_DEFAULT',
-                                                           cancel_after_progress=cancel_after))
+            watch.__enter__()  # until the process ends
+            started = sorted(bpy.ops.mesh.make_developable('INVOKE_DEFAULT'))
         waited = [0]
 
         def poll():
             waited[0] += 1
-            if not operators.LAST_RUN and waited[0] < 600:
+            if not watch.modal_finished and waited[0] < 600:
                 return 0.1
             ob = bpy.data.objects["cone_band"]
-            _finish({"started": started, "last_run": dict(operators.LAST_RUN),
+            _finish({"started": started, "last_run": watch.outcome(),
                      "state_before": before, "state_after": state(ob),
                      "base_unchanged": bool(np.array_equal(coords(ob.data), base))})
         bpy.app.timers.register(poll, first_interval=0.1)

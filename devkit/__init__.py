@@ -1,0 +1,14 @@
+"""Development kit shared by tests/ and bench/ (never shipped in the add-on).
+
+  paths     the repository, ../shared beside it, the build folder
+  binding   addon/native.py, the one ctypes binding of the C ABI, imported
+            without the add-on package (which needs bpy)
+  meshes    generated meshes: exact developable surfaces, noisy ones, the
+            paper's models, the run command's demo meshes, benchmark families
+  obj       OBJ reading and writing
+  distance  point-to-triangle distance and the sampled Hausdorff distance
+  machine   what a benchmark page says about the machine and the build
+  blender   numpy arrays -> Blender objects (only inside Blender)
+
+Tests get it on sys.path from tests/conftest.py, bench scripts and the batch
+script insert the repository root themselves."""

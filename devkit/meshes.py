@@ -1,0 +1,244 @@
+"""Generated meshes. Each returns (positions float64 (n, 3), triangles int32
+(m, 3)) unless it says otherwise; grids are triangulated with alternating
+diagonals so that no direction is favoured, in numpy so that a million faces
+take a second."""
+import numpy as np
+
+from .obj import read_obj
+
+
+# -- grids ------------------------------------------------------------------------
+
+def grid_triangles(rows, cols, wrap=False):
+    """Triangles of a rows x cols vertex grid (row-major); wrap joins the last
+    column to the first (a closed band)."""
+    col_count = cols if wrap else cols - 1
+    i, j = np.meshgrid(np.arange(rows - 1), np.arange(col_count), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    a = i * cols + j
+    b = i * cols + (j + 1) % cols
+    c = (i + 1) * cols + j
+    d = (i + 1) * cols + (j + 1) % cols
+    even = ((i + j) % 2 == 0)[:, None]
+    first = np.where(even, np.stack([a, b, d], 1), np.stack([a, b, c], 1))
+    second = np.where(even, np.stack([a, d, c], 1), np.stack([b, d, c], 1))
+    return np.stack([first, second], 1).reshape(-1, 3).astype(np.int32)
+
+
+def grid_quads(nu, nv):
+    """Quads (m, 4) int32 of an nu x nv vertex grid (row-major, rows of nv)."""
+    idx = np.arange(nu * nv).reshape(nu, nv)
+    quads = np.stack([idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]], axis=-1)
+    return quads.reshape(-1, 4).astype(np.int32)
+
+
+def quads_to_triangles(quads):
+    """Each quad (a, b, c, d) split along a-c."""
+    quads = np.asarray(quads)
+    return np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]).astype(np.int32)
+
+
+def add_noise(positions, amplitude, seed=1):
+    """Uniform random displacement of every vertex, in [-amplitude, amplitude]^3."""
+    rng = np.random.default_rng(seed)
+    return positions + rng.uniform(-amplitude, amplitude, positions.shape)
+
+
+# -- exact developable surfaces and their noisy versions ------------------------------
+
+def plane(rows=12, cols=15, size=2.0):
+    u, v = np.meshgrid(np.linspace(0, size, cols), np.linspace(0, size * 0.8, rows))
+    pos = np.stack([u.ravel(), v.ravel(), np.zeros(u.size)], axis=1)
+    return pos, grid_triangles(rows, cols)
+
+
+def cylinder(rows=10, cols=40, radius=1.0, height=2.0, angle=2 * np.pi):
+    """Open cylinder (a closed band when angle is 2 pi) along z."""
+    closed = np.isclose(angle, 2 * np.pi)
+    t = np.linspace(0, angle, cols, endpoint=not closed)
+    z = np.linspace(0, height, rows)
+    tt, zz = np.meshgrid(t, z)
+    pos = np.stack([radius * np.cos(tt).ravel(), radius * np.sin(tt).ravel(), zz.ravel()], axis=1)
+    return pos, grid_triangles(rows, cols, wrap=closed)
+
+
+def cone(rows=10, cols=48, r0=1.5, r1=0.6, height=1.5, bulge=0.0):
+    """A cone frustum band along z from radius r0 to r1; bulge pushes the
+    middle rows outward by bulge * sin(pi t), bending the rulings (the paper's
+    curved cone)."""
+    t = np.linspace(0, 2 * np.pi, cols, endpoint=False)
+    s = np.linspace(0, 1, rows)
+    tt, ss = np.meshgrid(t, s)
+    r = r0 + (r1 - r0) * ss + bulge * np.sin(np.pi * ss)
+    pos = np.stack([r.ravel() * np.cos(tt).ravel(), r.ravel() * np.sin(tt).ravel(),
+                    height * ss.ravel()], axis=1)
+    return pos, grid_triangles(rows, cols, wrap=True)
+
+
+def curved_cone():
+    """The paper's Fig. 3 / Table I model: a closed band of 80 x 9 vertices
+    (720 v, 1280 f), slightly bulged: mean |defect| 2.47e-3 and AE 0.118,
+    against the paper's 2.498e-3 and 0.1169."""
+    return cone(rows=9, cols=80, r0=1.36, r1=0.68, height=0.72, bulge=0.066)
+
+
+def noisy_cylinder_patch(rows=16, cols=24, radius=1.0, noise=0.01, seed=1):
+    """A 120-degree cylinder patch with noise of `noise` x radius."""
+    pos, tris = cylinder(rows=rows, cols=cols, radius=radius, height=1.5, angle=2 * np.pi / 3)
+    return add_noise(pos, noise * radius, seed), tris
+
+
+def folded_sheet(rows=12, cols=15, angle_degrees=90.0, size=2.0):
+    """A square sheet folded along the straight line x = size / 2 (two planes
+    meeting at `angle_degrees`); with an odd `cols` the crease runs along a
+    column of edges."""
+    pos, tris = plane(rows=rows, cols=cols, size=size)
+    fold = size / 2
+    turn = np.radians(180.0 - angle_degrees)
+    beyond = pos[:, 0] > fold
+    d = pos[beyond, 0] - fold
+    pos[beyond, 0] = fold + d * np.cos(turn)
+    pos[beyond, 2] = d * np.sin(turn)
+    return pos, tris
+
+
+def cylinder_cone(rows_each=8, cols=40, radius=1.0, height=1.0, apex_height=1.2):
+    """A cylinder of `height` joined along its top ring to a cone frustum that
+    narrows to half the radius: two developable pieces meeting at a circle.
+    Returns positions, triangles and the per-face piece (0 cylinder, 1 cone)."""
+    t = np.linspace(0, 2 * np.pi, cols, endpoint=False)
+    s = np.linspace(0, 1, rows_each)
+    ring_r = np.concatenate([np.full(rows_each, radius), radius * (1 - 0.5 * s[1:])])
+    ring_z = np.concatenate([height * s, height + apex_height * 0.5 * s[1:]])
+    pos = np.stack([np.outer(ring_r, np.cos(t)).ravel(), np.outer(ring_r, np.sin(t)).ravel(),
+                    np.repeat(ring_z, cols)], axis=1)
+    tris = grid_triangles(len(ring_r), cols, wrap=True)
+    piece = np.repeat((np.arange(len(ring_r) - 1) >= rows_each - 1).astype(int), 2 * cols)
+    return pos, tris, piece
+
+
+def noisy_grid(faces, seed=0):
+    """A noisy, gently curved height-field grid of about `faces` triangles
+    (cheap to build at millions of faces: memory-budget tests)."""
+    cols = int(np.sqrt(faces / 2)) + 1
+    rows = max(2, faces // (2 * (cols - 1)) + 1)
+    u, v = np.meshgrid(np.arange(cols, dtype=float), np.arange(rows, dtype=float))
+    rng = np.random.default_rng(seed)
+    z = 0.001 * (u - cols / 2) ** 2 + 0.05 * rng.standard_normal(u.shape)
+    p = np.stack([u.ravel(), v.ravel(), z.ravel()], 1)
+    return p, grid_triangles(rows, cols)
+
+
+# -- the run command's demo meshes (quads, as a modeller has them) ----------------------
+
+def cone_band(nu=80, nv=9, noise=0.004, bulge=0.06, seed=1):
+    """A curved cone band like the paper's Fig. 3 (80 x 9 = 720 vertices), made
+    non-developable by a smooth bulge plus random noise.
+    Returns (vertices (nu*nv, 3) float64, quads (m, 4) int32)."""
+    rng = np.random.default_rng(seed)
+    u = np.linspace(0.0, 1.5 * np.pi, nu)            # around the axis
+    v = np.linspace(0.0, 1.0, nv)                    # along the rulings
+    U, V = np.meshgrid(u, v, indexing="ij")
+    r = 1.0 + 0.8 * V                                # cone: radius grows along v
+    pts = np.stack([r * np.cos(U), r * np.sin(U), 1.2 * V], axis=-1)
+    # "curved": bend the band (a developable cone stays developable only without it)
+    radial = np.stack([np.cos(U), np.sin(U), np.zeros_like(U)], axis=-1)
+    bump = bulge * np.sin(np.pi * V) * np.sin(3.0 * U) ** 2
+    pts = pts + radial * bump[..., None]
+    pts = pts + rng.normal(scale=noise, size=pts.shape)
+    return pts.reshape(-1, 3), grid_quads(nu, nv)
+
+
+def half_cylinder(nu=40, nv=20, noise=0.01, seed=2):
+    """A noisy half-cylinder sheet. Returns (vertices, quads)."""
+    rng = np.random.default_rng(seed)
+    U, V = np.meshgrid(np.linspace(0.0, np.pi, nu), np.linspace(0.0, 2.0, nv), indexing="ij")
+    pts = np.stack([np.cos(U), V, np.sin(U)], axis=-1)
+    pts = pts + rng.normal(scale=noise, size=pts.shape)
+    return pts.reshape(-1, 3), grid_quads(nu, nv)
+
+
+DEMOS = {"cone_band": cone_band, "half_cylinder": half_cylinder}
+
+
+def demo_cone_band():
+    """The run command's demo mesh, its quads split in two."""
+    positions, quads = cone_band()
+    return positions, quads_to_triangles(quads)
+
+
+# -- benchmark families of any size --------------------------------------------------------
+
+def band_size(faces):
+    """rows, cols of a closed band with rows - 1 = cols / 2 and ~faces faces."""
+    cols = max(8, int(round(np.sqrt(faces))))
+    cols += cols % 2
+    return cols // 2 + 1, cols
+
+
+def noisy_cylinder(faces, noise=0.03, seed=1):
+    """Closed cylinder band (radius 1, height pi, square cells) with uniform
+    noise of `noise` grid spacings on every coordinate."""
+    rows, cols = band_size(faces)
+    pos, tris = cylinder(rows=rows, cols=cols, height=np.pi)
+    return add_noise(pos, noise * 2 * np.pi / cols, seed), tris
+
+
+def noisy_cone(faces, noise=0.03, seed=2):
+    """Closed cone frustum band (radius 1.5 to 0.6 over height 1.5) with noise
+    of `noise` mean grid spacings."""
+    rows, cols = band_size(faces)
+    pos, tris = cone(rows=rows, cols=cols)
+    return add_noise(pos, noise * 2 * np.pi * 1.05 / cols, seed), tris
+
+
+def generalized_cone(rows, cols, span=2 * np.pi, waist=0.5, pleats=8, pleat_depth=0.08,
+                     height=1.6, wave=0.02, waves=2):
+    """A generalized cone (apex at the origin, rulings to a pleated directrix
+    r(theta) = 1 + pleat_depth sin(pleats theta), z = -height), cut between
+    s = waist and s = 1 of the ruling, with wavy rulings: every ruling is
+    bent sideways (radially) by wave * sin(waves pi u), u in [0, 1] along the
+    band. wave = 0 is exactly developable."""
+    closed = np.isclose(span, 2 * np.pi)
+    t = np.linspace(0, span, cols, endpoint=not closed)
+    s = np.linspace(waist, 1.0, rows)
+    tt, ss = np.meshgrid(t, s)
+    r = 1.0 + pleat_depth * np.sin(pleats * tt)
+    u = (ss - waist) / (1.0 - waist)
+    radial = ss * r + wave * np.sin(waves * np.pi * u)
+    pos = np.stack([(radial * np.cos(tt)).ravel(), (radial * np.sin(tt)).ravel(),
+                    (-height * ss).ravel()], 1)
+    return pos, grid_triangles(rows, cols, wrap=closed)
+
+
+def wavy_generalized_cone(faces):
+    """The scaling family: a closed pleated generalized cone band with two
+    waves along every ruling."""
+    return generalized_cone(*band_size(faces))
+
+
+def skirt():
+    """Table II's skirt stand-in: an open (slit) pleated generalized cone of
+    29 x 34 vertices = 986 v, 1848 f as in the paper, one bulge along the
+    rulings; mean |defect| and AE are tuned near the paper's 4.91e-3 and 0.1113."""
+    pos, tris = generalized_cone(rows=29, cols=34, span=2 * np.pi * 0.9, waist=0.45, pleats=6,
+                                 pleat_depth=0.06, height=2.2, wave=0.1556, waves=1)
+    return pos * 0.9679, tris
+
+
+FAMILIES = {"cylinder": noisy_cylinder, "cone": noisy_cone, "gcone": wavy_generalized_cone}
+FAMILY_TITLES = {"cylinder": "noisy cylinder", "cone": "noisy cone",
+                 "gcone": "generalized cone, wavy rulings"}
+NAMED = {"curved_cone": curved_cone, "skirt": skirt}
+
+
+def load(spec):
+    """(positions, triangles) of a mesh spec dict: {'file': path} |
+    {'family': name, 'faces': n} | {'named': 'curved_cone' | 'skirt'}."""
+    if "file" in spec:
+        return read_obj(spec["file"])
+    if "family" in spec:
+        return FAMILIES[spec["family"]](int(spec["faces"]))
+    if spec.get("named") in NAMED:
+        return NAMED[spec["named"]]()
+    raise ValueError(spec)

@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 2  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 3  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -46,6 +46,11 @@ SOLVER_DECOUPLED = 0
 SOLVER_COUPLED = 1
 
 STOP_REASONS = {0: "already developable", 1: "converged", 2: "iteration limit", 3: "stalled"}
+
+# dev_stats.result: what the run returned.
+RESULT_IMPROVED = 0
+RESULT_UNCHANGED = 1
+RESULT_NAMES = {RESULT_IMPROVED: "improved", RESULT_UNCHANGED: "unchanged"}
 
 if sys.platform.startswith("win"):
     LIBRARY_FILE = "developable.dll"
@@ -108,6 +113,12 @@ class dev_stats(ctypes.Structure):
         ("time_decompose_ms", ctypes.c_double),
         ("time_iterate_ms", ctypes.c_double),
         ("time_total_ms", ctypes.c_double),
+        # ABI 3
+        ("result", ctypes.c_int32),
+        ("faces_turned_over", ctypes.c_int64),
+        ("flat_share_before", ctypes.c_double),
+        ("flat_share_after", ctypes.c_double),
+        ("result_message", ctypes.c_char * 256),
     ]
 
 
@@ -307,6 +318,7 @@ def _copy_result(lib, res, n_vertices, n_triangles):
     st = dev_stats()
     _check(lib.dev_result_stats(res, ctypes.byref(st)), "dev_result_stats")
     out.stats = {name: getattr(st, name) for name, _ in dev_stats._fields_}
+    out.stats["result_message"] = st.result_message.decode("utf-8", "replace")
 
     def get(fn, shape, dtype, ptr):
         a = np.empty(shape, dtype=dtype)

@@ -238,6 +238,13 @@ int32_t dev_result_stats(const dev_result* result, dev_stats* stats) {
   stats->time_decompose_ms = s.time_decompose_ms;
   stats->time_iterate_ms = s.time_iterate_ms;
   stats->time_total_ms = s.time_total_ms;
+  stats->result = static_cast<int32_t>(s.result);
+  stats->faces_turned_over = static_cast<int64_t>(s.faces_turned_over);
+  stats->flat_share_before = s.flat_share_before;
+  stats->flat_share_after = s.flat_share_after;
+  const size_t length = std::min(s.result_message.size(), sizeof stats->result_message - 1);
+  std::memcpy(stats->result_message, s.result_message.data(), length);
+  stats->result_message[length] = '\0';
   return DEV_STATUS_OK;
 }
 

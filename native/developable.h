@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 2
+#define DEV_ABI_VERSION 3
 
 /* Status codes (values are stable). */
 enum {
@@ -70,6 +70,13 @@ enum {
                                        in 30 on a segmented mesh in the refit mode). The score is the
                                        mean |defect|; on a segmented mesh in the refit mode, the
                                        median |defect| inside the patches */
+};
+
+/* What the run returned (dev_stats.result). */
+enum {
+  DEV_RESULT_IMPROVED = 0, /* the returned mesh is better and no user-facing figure got worse */
+  DEV_RESULT_UNCHANGED = 1 /* the input is returned (no honest improvement within the limits, or
+                              already developable); the reason is in dev_stats.result_message */
 };
 
 /* Seam treatment for segmented meshes (issue: segmentation). */
@@ -122,6 +129,15 @@ typedef struct dev_stats {
   double time_decompose_ms;     /* t_D: building and factoring the normal matrix */
   double time_iterate_ms;       /* t_I: the iterations */
   double time_total_ms;         /* t_T: the whole call, checks and fitting included */
+  /* ABI 3: */
+  int32_t result;               /* DEV_RESULT_*. An iterate is only returned when it turns no face
+                                   over, its mean |defect| is not above the input's and its flat
+                                   share not below; else the input comes back, UNCHANGED */
+  int64_t faces_turned_over;    /* faces of the result whose normal is > 90 degrees from the
+                                   input's (not counting faces already turned in the input) */
+  double flat_share_before;     /* share of interior vertices with |defect| < 1e-3 rad, 0..1 */
+  double flat_share_after;
+  char result_message[256];     /* plain-words sentence for the user, NUL-terminated; empty if none */
 } dev_stats;
 
 /* Opaque result of one run; free with dev_result_free. */
@@ -173,12 +189,13 @@ DEV_API int32_t dev_result_defect_before(const dev_result* result, double* out, 
 DEV_API int32_t dev_result_defect_after(const dev_result* result, double* out, int64_t capacity);
 /* n_vertices bytes: 1 for interior vertices (where the defect is defined). */
 DEV_API int32_t dev_result_interior(const dev_result* result, uint8_t* out, int64_t capacity);
-/* n_triangles * 3 float64: the last target normal of each face. */
+/* n_triangles * 3 float64: the target normal of each face in the step that made the returned
+ * positions (the input's fit when the input is returned). */
 DEV_API int32_t dev_result_target_normals(const dev_result* result, double* out, int64_t capacity);
 /* n_triangles int32: patch id of each face, 0 .. patches-1. */
 DEV_API int32_t dev_result_patch_ids(const dev_result* result, int32_t* out, int64_t capacity);
 
-/* Ideal curves (of the last fit), as polylines on the unit sphere. */
+/* Ideal curves behind those targets, as polylines on the unit sphere. */
 DEV_API int64_t dev_result_curve_count(const dev_result* result);
 /* Point count, patch id and closed flag of curve `index`; returns DEV_STATUS_INVALID_ARGUMENT
  * for an index out of range. Any output pointer may be NULL. */

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <optional>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace developable {
@@ -115,6 +116,57 @@ void clamp_to_tolerance(Positions& positions, const Positions& start, double lim
     const double length = move.norm();
     if (length > limit) positions.row(v) = start.row(v) + move * (limit / length);
   }
+}
+
+// Share of the interior vertices whose |defect| is under kFlatDefect, 0..1.
+double flat_share(const Eigen::VectorXd& defects, const std::vector<bool>& interior) {
+  Eigen::Index flat = 0, count = 0;
+  for (Eigen::Index v = 0; v < defects.size(); ++v) {
+    if (!interior[static_cast<size_t>(v)]) continue;
+    ++count;
+    if (std::abs(defects[v]) < kFlatDefect) ++flat;
+  }
+  return count > 0 ? static_cast<double>(flat) / static_cast<double>(count) : 0.0;
+}
+
+// Faces whose normal is more than 90 degrees from the input's, or collapsed
+// (zero normal) where the input's was not: folds a user would see.
+Eigen::Index turned_over_faces(const Normals& normals, const Normals& input_normals) {
+  Eigen::Index count = 0;
+  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
+    if (input_normals.row(f).squaredNorm() == 0.0) continue;
+    if (normals.row(f).dot(input_normals.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0) ++count;
+  }
+  return count;
+}
+
+// Why iterates were not eligible to be returned (see run_pipeline), for the
+// message of a run that returns its input.
+struct Rejections {
+  int folded = 0, defect_grew = 0, flat_share_fell = 0;
+  Eigen::Index fewest_turned_over = -1;
+};
+
+std::string unchanged_message(const Rejections& r) {
+  if (r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0)
+    return "Returned the input unchanged: no iterate lowered its curvature. Try a larger "
+           "tolerance or more iterations.";
+  std::string reasons, advice;
+  auto add = [](std::string& list, const std::string& item) { list += (list.empty() ? "" : ", ") + item; };
+  if (r.folded > 0) {
+    add(reasons, "turning faces over (at least " + std::to_string(r.fewest_turned_over) + ")");
+    add(advice, "a smaller tolerance");
+  }
+  if (r.defect_grew > 0) {
+    add(reasons, "raising the mean |defect|");
+    add(advice, "segmentation with more patches");
+  }
+  if (r.flat_share_fell > 0) {
+    add(reasons, "losing flat vertices");
+    if (r.folded == 0) add(advice, "a larger tolerance");
+  }
+  return "Returned the input unchanged: every iterate that lowered the curvature did so by " +
+         reasons + ". Try " + advice + ".";
 }
 
 }  // namespace
@@ -319,8 +371,12 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   result.defect_after = result.defect_before;
   stats.mean_defect_after = before.mean_abs;
   stats.max_defect_after = before.max_abs;
+  stats.flat_share_before = flat_share(result.defect_before, result.interior);
+  stats.flat_share_after = stats.flat_share_before;
+  stats.result = ResultKind::unchanged;
   if (before.mean_abs <= options.developable_threshold) {
     stats.stop_reason = StopReason::already_developable;
+    stats.result_message = "The mesh is already developable: returned unchanged.";
     stats.time_total_ms = elapsed_ms(start_time);
     progress.report(1.0, "done");
     return result;
@@ -346,18 +402,25 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   double previous_mean = before.mean_abs;
   const double input_score = score_of(result.defect_before);
   double best_score = input_score;
+  bool improved = false;
+  Rejections rejected;
+  // The curves and targets of the step that made the best iterate (the
+  // input's fit while nothing beat the input): what the result reports.
+  std::vector<PatchCurve> best_curves = result.curves;
+  Normals best_targets = result.target_normals;
   std::vector<double> best_history;
   stats.stop_reason = StopReason::iteration_limit;
-  // Face normals of `current` in the refit mode, shared by the refit, the
+  // Face normals of `current`, shared by the fold check, the refit, the
   // projection and the step (the input's at the first iteration).
   Normals normals = normals_before;
+  bool refit_next = false;  // the second phase refits on the iterate it restarts from
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report(0.1 + 0.9 * (iteration - 1) / options.max_iterations, "deformation");
     if (mode == Mode::refit && iteration > 1) {
       // Refitting the curves is the costly part; between refits the normals
       // are only projected again onto the curves they have.
-      normals = face_normals(current, triangles);
-      const bool refit = (iteration - 1) % options.refit_interval == 0;
+      const bool refit = refit_next || (iteration - 1) % options.refit_interval == 0;
+      refit_next = false;
       const Eigen::VectorXd areas =
           refit || smoothing_rounds > 0 ? face_areas(current, triangles) : Eigen::VectorXd();
       if (refit) {
@@ -373,16 +436,38 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     current = mode == Mode::refit ? deformation.step(current, normals) : deformation.step(current);
     if (limit > 0.0) clamp_to_tolerance(current, positions, limit);
     stats.iterations = iteration;
+    normals = face_normals(current, triangles);
 
     const Eigen::VectorXd defects = angle_defects(current, triangles, result.interior);
     const DefectStats now = defect_stats(defects, result.interior);
     const double score = score_of(defects);
-    if (score < best_score) {
+    // An iterate may be returned only if it is no worse than the input on
+    // any figure the user sees: no face turned over, mean |defect| and the
+    // flat share no worse. The score ranks the eligible ones.
+    const Eigen::Index turned = turned_over_faces(normals, normals_before);
+    const double flat = flat_share(defects, result.interior);
+    const bool folded = turned > 0;
+    const bool defect_grew = now.mean_abs > before.mean_abs;
+    const bool flat_share_fell = flat < stats.flat_share_before;
+    if (score < input_score) {
+      if (folded) {
+        ++rejected.folded;
+        if (rejected.fewest_turned_over < 0 || turned < rejected.fewest_turned_over)
+          rejected.fewest_turned_over = turned;
+      }
+      if (defect_grew) ++rejected.defect_grew;
+      if (flat_share_fell) ++rejected.flat_share_fell;
+    }
+    if (!folded && !defect_grew && !flat_share_fell && score < best_score) {
+      improved = true;
       best_score = score;
       result.positions = current;
       result.defect_after = defects;
       stats.mean_defect_after = now.mean_abs;
       stats.max_defect_after = now.max_abs;
+      stats.flat_share_after = flat;
+      best_curves = result.curves;
+      best_targets = result.target_normals;
     }
     // The paper's criterion, on its own measure. Not on a segmented mesh:
     // there the mean wanders while curvature moves along the seams, and
@@ -408,13 +493,32 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
         smoothed_phase_pending = false;
         smoothing_rounds = 1;
         smoother.emplace(triangles, result.patch_ids);
+        // Restart from the best iterate, with curves fitted on it (not on
+        // the last iterate, which may have crumpled).
         current = result.positions;
+        normals = face_normals(current, triangles);
+        refit_next = true;
         best_history.clear();
         continue;
       }
       stats.stop_reason = StopReason::stalled;
       break;
     }
+  }
+  result.curves = std::move(best_curves);
+  result.target_normals = std::move(best_targets);
+  if (improved) {
+    stats.result = ResultKind::improved;
+    if (stats.max_defect_after > stats.max_defect_before) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "Improved, but the largest |defect| grew from %.3g to %.3g rad.",
+                    stats.max_defect_before, stats.max_defect_after);
+      stats.result_message = text;
+    }
+  } else {
+    stats.result = ResultKind::unchanged;
+    stats.result_message = unchanged_message(rejected);
   }
   stats.time_iterate_ms = elapsed_ms(iterate_start);
 

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include <string>
 #include <vector>
 
 namespace developable {
@@ -35,6 +36,13 @@ enum class Seams {
 inline constexpr double kRefitCentroidWeight = 0.3;
 
 enum class StopReason { already_developable = 0, converged = 1, iteration_limit = 2, stalled = 3 };
+
+// What run_pipeline returned: a better mesh, or the input (with the reason in
+// PipelineStats::result_message).
+enum class ResultKind { improved = 0, unchanged = 1 };
+
+// |defect| (rad) under which an interior vertex counts as flat (the flat share).
+inline constexpr double kFlatDefect = 1e-3;
 
 struct PipelineOptions {
   double omega = 5.0;                   // weight of the normal rows, > 0
@@ -77,6 +85,10 @@ struct PipelineStats {
   double change_percent = 0.0;                            // dE^mean, %
   double max_vertex_move = 0.0;                           // caller's units
   double time_decompose_ms = 0.0, time_iterate_ms = 0.0, time_total_ms = 0.0;  // t_D, t_I, t_T
+  ResultKind result = ResultKind::unchanged;
+  Eigen::Index faces_turned_over = 0;  // faces of the result > 90 degrees from the input's
+  double flat_share_before = 0.0, flat_share_after = 0.0;  // interior share with |defect| < kFlatDefect
+  std::string result_message;          // plain words for the user; empty when improved
 };
 
 struct PipelineResult {
@@ -84,20 +96,23 @@ struct PipelineResult {
   Eigen::VectorXd defect_before;   // per vertex, rad; 0 off the interior
   Eigen::VectorXd defect_after;
   std::vector<bool> interior;      // where the defect is defined
-  Normals target_normals;          // per face, of the last fit
+  Normals target_normals;          // per face, of the step that made `positions` (input: its fit)
   std::vector<int> patch_ids;      // per face
-  std::vector<PatchCurve> curves;  // ideal curves of the last fit, on the unit sphere
+  std::vector<PatchCurve> curves;  // ideal curves behind target_normals, on the unit sphere
   PipelineStats stats;
 };
 
 // Runs the pipeline on a mesh.
 //   positions, triangles: the caller's mesh (checked by validate_mesh).
 //   pinned: empty, or one flag per vertex; pinned vertices never move.
-// The result keeps the best iterate (the input when nothing improves it),
-// every vertex within E_allow of its input position. "Best" is the lowest mean
-// |defect| over the interior vertices; on a segmented mesh in the refit mode,
-// the median over those inside the patches, because there the curvature is
-// meant to gather on the seams.
+// The result keeps the best eligible iterate, every vertex within E_allow of
+// its input position. Eligible: no face turned over (normal > 90 degrees from
+// the input's, or collapsed), mean |defect| not above the input's, flat share
+// not below it. "Best" is the lowest mean |defect| over the interior
+// vertices; on a segmented mesh in the refit mode, the median over those
+// inside the patches, because there the curvature is meant to gather on the
+// seams. When no iterate is eligible and better, the input is returned with
+// stats.result = unchanged and stats.result_message saying why.
 // Throws EngineError: the input's status, no_interior_vertex, no_free_vertex,
 // invalid_argument, cancelled (via progress), numerical_failure.
 PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,

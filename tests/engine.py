@@ -42,6 +42,9 @@ class Stats(ctypes.Structure):
         ("max_defect_after", ctypes.c_double), ("change_percent", ctypes.c_double),
         ("max_vertex_move", ctypes.c_double), ("time_decompose_ms", ctypes.c_double),
         ("time_iterate_ms", ctypes.c_double), ("time_total_ms", ctypes.c_double),
+        ("result", ctypes.c_int32), ("faces_turned_over", ctypes.c_int64),
+        ("flat_share_before", ctypes.c_double), ("flat_share_after", ctypes.c_double),
+        ("result_message", ctypes.c_char * 256),
     ]
 
 

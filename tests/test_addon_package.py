@@ -129,7 +129,8 @@ def _header_struct(name):
     text = (REPO / "native" / "developable.h").read_text()
     body = re.search(r"typedef struct %s \{(.*?)\} %s;" % (name, name), text, re.S).group(1)
     body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
-    return re.findall(r"^\s*(int32_t|int64_t|double|uint8_t)\s+(\w+)\s*;", body, re.M)
+    return re.findall(r"^\s*(int32_t|int64_t|double|uint8_t|char)\s+(\w+)\s*(?:\[(\d+)\])?\s*;",
+                      body, re.M)
 
 
 def test_ctypes_binding_matches_the_header():
@@ -141,8 +142,13 @@ def test_ctypes_binding_matches_the_header():
     ctype = {"int32_t": ctypes.c_int32, "int64_t": ctypes.c_int64, "double": ctypes.c_double,
              "uint8_t": ctypes.c_uint8}
     for struct in ("dev_params", "dev_stats"):
-        header = [(n, ctype[t]) for t, n in _header_struct(struct)]
-        assert header == list(getattr(native, struct)._fields_), struct
+        header = [(n, ctypes.c_char * int(size) if t == "char" else ctype[t])
+                  for t, n, size in _header_struct(struct)]
+        binding = list(getattr(native, struct)._fields_)
+        assert [n for n, _ in header] == [n for n, _ in binding], struct
+        for (name, want), (_, have) in zip(header, binding):
+            assert ctypes.sizeof(want) == ctypes.sizeof(have) and \
+                getattr(want, "_type_", want) == getattr(have, "_type_", have), (struct, name)
     abi = int(re.search(r"#define DEV_ABI_VERSION (\d+)",
                         (REPO / "native" / "developable.h").read_text()).group(1))
     assert native.ABI_VERSION == abi

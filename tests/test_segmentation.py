@@ -58,6 +58,13 @@ def test_piecewise_developable_meshes_keep_their_shape(engine, meshes_dir, name)
     assert distance <= 0.005 * geometry.bbox_diagonal(positions)
 
 
+# Issue 11: these results were reached by turning faces over (or raising the
+# mean |defect|), so the result check now returns the input instead; the
+# fold-free step must bring them back.
+FOLDS_XFAIL = pytest.mark.xfail(strict=True, reason="issue 11: reached only by folding; the "
+                                "result check returns the input")
+
+
 def flat_share(defects, interior):
     return np.mean(np.abs(defects[interior]) < 1e-3)
 
@@ -74,6 +81,7 @@ def patch_inside(triangles, patch_ids, interior):
     return interior & ~seam
 
 
+@FOLDS_XFAIL
 def test_human_woman_is_made_piecewise_developable(engine, meshes_dir):
     """The issue's goal on the closest to the paper's wetsuit: on a closed
     surface the total curvature is fixed (Gauss-Bonnet), so a good result
@@ -91,7 +99,7 @@ def test_human_woman_is_made_piecewise_developable(engine, meshes_dir):
     assert distance <= 0.01 * geometry.bbox_diagonal(positions)
 
 
-@pytest.mark.parametrize("seams", ["free", "pinned"])
+@pytest.mark.parametrize("seams", [pytest.param("free", marks=FOLDS_XFAIL), "pinned"])
 def test_segmented_result_is_flatter_inside_the_patches(engine, meshes_dir, seams):
     """Default settings: automatic segmentation, and the kept iterate is the
     one with the lowest median |defect| inside the patches, never above the
@@ -110,6 +118,7 @@ def test_segmented_result_is_flatter_inside_the_patches(engine, meshes_dir, seam
     assert np.linalg.norm(result.positions - positions, axis=1).max() <= limit * (1 + 1e-9)
 
 
+@FOLDS_XFAIL
 def test_target_smoothing_flattens_doubly_curved_patches(engine, meshes_dir):
     """Projected targets of a doubly curved patch jump along its ideal curve
     and crumple it; the automatic one round of smoothing on a segmented mesh

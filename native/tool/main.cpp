@@ -47,6 +47,10 @@ const char* const usage_text =
     "  --quiet              no progress on stderr\n"
     "  --help               this text\n"
     "\n"
+    "The output is never folded or worse than the input (mean |defect|, flat share):\n"
+    "when no such result exists the input is written unchanged and a line\n"
+    "'WARNING: ...' on stderr says why (also with --quiet).\n"
+    "\n"
     "Exit status: 0 done, 1 bad usage or file error, 2 the engine refused the mesh.\n";
 
 [[noreturn]] void die(int code, const std::string& message) {
@@ -111,6 +115,18 @@ std::string json_number(double value) {
   return s.str();
 }
 
+// The characters of `text` escaped for a JSON string.
+std::string json_string(const char* text) {
+  std::ostringstream s;
+  for (const char* c = text; *c != '\0'; ++c) {
+    const auto u = static_cast<unsigned char>(*c);
+    if (*c == '"' || *c == '\\') s << '\\' << *c;
+    else if (u < 0x20) s << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(u) << std::dec;
+    else s << *c;
+  }
+  return s.str();
+}
+
 void write_report(const std::string& path, const dev_result* result, const dev_stats& s,
                   const dev_params& params) {
   std::ostringstream json;
@@ -138,7 +154,12 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
        << ", \"max_vertex_move\": " << json_number(s.max_vertex_move)
        << ", \"time_decompose_ms\": " << json_number(s.time_decompose_ms)
        << ", \"time_iterate_ms\": " << json_number(s.time_iterate_ms)
-       << ", \"time_total_ms\": " << json_number(s.time_total_ms) << "},\n";
+       << ", \"time_total_ms\": " << json_number(s.time_total_ms)
+       << ", \"result\": \"" << (s.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved") << "\""
+       << ", \"faces_turned_over\": " << s.faces_turned_over
+       << ", \"flat_share_before\": " << json_number(s.flat_share_before)
+       << ", \"flat_share_after\": " << json_number(s.flat_share_after)
+       << ", \"result_message\": \"" << json_string(s.result_message) << "\"},\n";
   std::vector<int32_t> patches(static_cast<size_t>(s.faces));
   dev_result_patch_ids(result, patches.data(), s.faces);
   json << "  \"patch_ids\": [";
@@ -272,6 +293,13 @@ int main(int argc, char** argv) {
                  stop_reason_name(stats.stop_reason), stats.max_vertex_move,
                  stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
                  stats.time_iterate_ms, stats.time_total_ms);
+    std::fprintf(stderr, "flat %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
+                 100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after,
+                 static_cast<long long>(stats.faces_turned_over),
+                 stats.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved");
   }
+  // Even with --quiet: the user must know when the output is the input, or a figure got worse.
+  if (stats.result == DEV_RESULT_UNCHANGED || stats.result_message[0] != '\0')
+    std::fprintf(stderr, "WARNING: %s\n", stats.result_message);
   return 0;
 }

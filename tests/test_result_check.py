@@ -1,0 +1,131 @@
+"""The result check (issue 11): a run returns an iterate only when it turns no
+face over and is no worse than the input on mean |defect| and on the flat
+share; otherwise it returns the input, says so (result UNCHANGED, a message)
+and the tool warns. Through the add-on's binding, addon/native.py."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import meshgen
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(REPO, "addon"))
+import native  # noqa: E402
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _library(library_path):
+    os.environ[native.ENV_VAR] = str(library_path)
+    native.load(force_reload=True)
+
+
+def face_normals(positions, triangles):
+    p = positions[triangles]
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+
+
+def flat_share(defects, interior):
+    return float(np.mean(np.abs(defects[interior]) < 1e-3))
+
+
+def check_honest(positions, triangles, result):
+    """What every result must satisfy, whatever the mesh."""
+    s = result.stats
+    turned = np.sum(np.einsum("ij,ij->i", face_normals(positions, triangles),
+                              face_normals(result.positions, triangles)) < 0)
+    assert turned == 0 and s["faces_turned_over"] == 0
+    assert s["mean_defect_after"] <= s["mean_defect_before"]
+    assert s["flat_share_before"] == pytest.approx(flat_share(result.defect_before, result.interior))
+    assert s["flat_share_after"] == pytest.approx(flat_share(result.defect_after, result.interior))
+    assert s["flat_share_after"] >= s["flat_share_before"]
+    if s["result"] == native.RESULT_UNCHANGED:
+        assert np.array_equal(result.positions, positions)
+        assert s["result_message"]
+    else:
+        assert s["result"] == native.RESULT_IMPROVED
+        assert s["mean_defect_after"] < s["mean_defect_before"] or \
+            s["flat_share_after"] > s["flat_share_before"]
+
+
+def test_a_noisy_patch_improves_honestly():
+    positions, triangles = meshgen.noisy_cylinder_patch()
+    result = native.run(positions, triangles)
+    check_honest(positions, triangles, result)
+    assert result.stats["result"] == native.RESULT_IMPROVED
+    assert result.stats["flat_share_after"] > 0.5
+
+
+def test_a_developable_mesh_comes_back_unchanged_and_says_so():
+    positions, triangles = meshgen.plane()
+    result = native.run(positions, triangles)
+    check_honest(positions, triangles, result)
+    assert result.stats["result"] == native.RESULT_UNCHANGED
+    assert "already developable" in result.stats["result_message"]
+
+
+def uv_sphere(rings=24, segments=48):
+    theta = np.linspace(0, np.pi, rings + 1)[1:-1]
+    phi = np.linspace(0, 2 * np.pi, segments, endpoint=False)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    points = np.c_[np.sin(t).ravel() * np.cos(p).ravel(), np.sin(t).ravel() * np.sin(p).ravel(),
+                   np.cos(t).ravel()]
+    points = np.vstack([points, [0, 0, 1], [0, 0, -1]])
+    north, south = len(points) - 2, len(points) - 1
+    tris = []
+    for r in range(rings - 2):
+        for s in range(segments):
+            a, b = r * segments + s, r * segments + (s + 1) % segments
+            c, d = a + segments, b + segments
+            tris += [(a, c, b), (b, c, d)]
+    for s in range(segments):
+        tris.append((north, s, (s + 1) % segments))
+        last = (rings - 2) * segments
+        tris.append((south, last + (s + 1) % segments, last + s))
+    return points, np.array(tris, dtype=np.int32)
+
+
+def test_a_sphere_is_never_made_worse():
+    """A convex closed surface keeps its total curvature (Gauss-Bonnet): its
+    mean |defect| cannot fall, so whatever the run tries, the user gets the
+    sphere back, or a mesh no worse on any figure."""
+    positions, triangles = uv_sphere()
+    result = native.run(positions, triangles)
+    check_honest(positions, triangles, result)
+
+
+@pytest.mark.parametrize("name", ["human_woman", "penguin", "torus", "spot_low_resolution"])
+def test_whole_objects_are_never_folded_or_made_worse(meshes_dir, name):
+    positions, triangles = meshgen.read_obj(meshes_dir / (name + ".obj"))
+    result = native.run(positions, triangles)
+    check_honest(positions, triangles, result)
+
+
+def test_the_tool_warns_when_it_returns_the_input(tool_path, tmp_path):
+    positions, triangles = meshgen.plane()
+    meshgen.write_obj(tmp_path / "plane.obj", positions, triangles)
+    run = subprocess.run([str(tool_path), str(tmp_path / "plane.obj"), str(tmp_path / "out.obj"),
+                          "--quiet", "--report", str(tmp_path / "r.json")],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert run.stderr.startswith("WARNING: ") and "unchanged" in run.stderr
+    stats = json.loads((tmp_path / "r.json").read_text())["stats"]
+    assert stats["result"] == "unchanged" and stats["faces_turned_over"] == 0
+    assert stats["result_message"] in run.stderr
+    assert stats["flat_share_before"] == stats["flat_share_after"] == 1.0
+
+
+def test_the_tool_reports_an_honest_improvement(tool_path, tmp_path):
+    positions, triangles = meshgen.noisy_cylinder_patch()
+    meshgen.write_obj(tmp_path / "patch.obj", positions, triangles)
+    run = subprocess.run([str(tool_path), str(tmp_path / "patch.obj"), str(tmp_path / "out.obj"),
+                          "--report", str(tmp_path / "r.json")], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    stats = json.loads((tmp_path / "r.json").read_text())["stats"]
+    assert stats["result"] == "improved" and stats["faces_turned_over"] == 0
+    assert stats["flat_share_after"] > stats["flat_share_before"]
+    assert "result improved" in run.stderr

@@ -18,7 +18,10 @@
 namespace developable {
 
 // Nearest points on a fixed set of sphere curves. Segments between
-// consecutive polyline points are great-circle arcs; runs of a few
+// consecutive polyline points are great-circle arcs, except between points
+// 90 degrees or more apart, where only the two points count (no arc: the
+// shorter great circle is no longer a sensible curve; fitted curves are
+// sampled far more densely); runs of a few
 // consecutive arcs form the leaves of a tree of bounding balls, so a query
 // costs about log(arcs) ball tests and is exact. Immutable once built; safe
 // to query from several threads.

@@ -189,6 +189,8 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles,
     throw EngineError(Status::invalid_argument, "the centroid weight must be a positive number");
   if (row_weights_.size() != triangles.rows() || targets.rows() != triangles.rows())
     throw EngineError(Status::internal_error, "deformation: one weight and target per triangle");
+  if (!row_weights_.allFinite() || !(row_weights_.array() > 0.0).all())
+    throw EngineError(Status::invalid_argument, "deformation: row weights must be positive numbers");
 
   // Unknowns are the free vertices that some triangle uses; unused vertices
   // simply stay where they are.

@@ -50,9 +50,11 @@ struct SkeletonOptions {
   // 3.5, a full circle 2.8, an isotropic blob ~1 or less).
   double min_extent_over_spread = 1.5;
   // Planar test: ... or when the points' scatter across the ridge (the
-  // field's thickness) exceeds this fraction of their spread. A 2-D noise
-  // blob gives ~0.65, a curve of length L and scatter s gives 3.5 s / L, so
-  // an arc shorter than ~7 scatter widths counts as a point.
+  // field's thickness) exceeds this fraction of their spread. A curve of
+  // length L and scatter s gives 3.5 s / L, so an arc shorter than ~7
+  // scatter widths counts as a point. Blobs of noise can pass both tests
+  // (a Gaussian blob measures ~0.45 here) and keep short ridges through the
+  // noise: fit_ideal_curves's residual test makes those a point.
   double max_thickness_over_spread = 0.5;
   // Below this many occupied cells the field is skipped: the cells'
   // centroids themselves are the skeleton points (coarse meshes).
@@ -87,10 +89,11 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
                                               double min_branch_fraction, double min_length);
 
 // The whole stage: ridge points, ordering, and the planar test.
-// Returns an empty vector when the Gauss image is about a point (planar
-// patch, fewer than 4 points, or a ridge too short against the spread); the
-// caller then uses the mean normal. Link distance: max(2.5 cells, R / 2);
-// join distance 2 R.
+// Returns an empty vector when the Gauss image is about a point by the
+// planar tests above (fewer than 4 points, a ridge too short against the
+// spread, or too thick); the caller then uses the mean normal. A noisy blob
+// may still give short curves (see max_thickness_over_spread).
+// Link distance: max(2.5 cells, R / 2); join distance 2 R.
 // Throws EngineError(invalid_argument) on options out of range.
 std::vector<SkeletonCurve> extract_skeleton(const EffectField& field, const SkeletonOptions& options);
 

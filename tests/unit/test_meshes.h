@@ -4,6 +4,8 @@
 
 #include "types.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 

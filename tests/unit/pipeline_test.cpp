@@ -1,0 +1,91 @@
+// pipeline.h: a developable input comes back bit for bit; pins never move;
+// every vertex stays within E_allow; refusals of bad options.
+#include "pipeline.h"
+
+#include "measures.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace developable {
+namespace {
+
+TEST(Pipeline, ExactPlaneAndCylinderComeBackUnchanged) {
+  for (const auto& m : {test::plane(10, 12), test::cylinder(10, 32), test::cone(10, 32)}) {
+    for (Mode mode : {Mode::refit, Mode::paper}) {
+      PipelineOptions options;
+      options.mode = mode;
+      const PipelineResult r = run_pipeline(m.positions, m.triangles, {}, options, {});
+      EXPECT_EQ(r.stats.stop_reason, StopReason::already_developable);
+      EXPECT_TRUE(r.positions == m.positions);
+      EXPECT_EQ(r.stats.iterations, 0);
+      EXPECT_EQ(r.stats.max_vertex_move, 0.0);
+    }
+  }
+}
+
+TEST(Pipeline, PinsNeverMoveAndNoVertexLeavesEAllow) {
+  std::mt19937 random(21);
+  for (unsigned seed = 0; seed < 4; ++seed) {
+    auto m = test::cylinder(12, 24);
+    test::add_noise(m.positions, 0.02, seed);
+    std::vector<bool> pinned(m.positions.rows());
+    for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = random() % 5 == 0;
+    PipelineOptions options;
+    options.max_iterations = 15;
+    options.tolerance = 0.5;
+    options.mode = seed % 2 ? Mode::paper : Mode::refit;
+    options.segmentation = seed == 2 ? 1 : -1;
+    options.pin_boundary = seed == 3;
+    const PipelineResult r = run_pipeline(m.positions, m.triangles, pinned, options, {});
+    const double limit = options.tolerance * r.stats.average_edge_length;
+    const Eigen::Index n = m.positions.rows();
+    for (Eigen::Index v = 0; v < n; ++v) {
+      if (pinned[v]) {
+        EXPECT_TRUE(r.positions.row(v) == m.positions.row(v)) << "seed " << seed << " vertex " << v;
+      }
+      const double move = (r.positions.row(v) - m.positions.row(v)).norm();
+      EXPECT_LE(move, limit * (1 + 1e-12));
+    }
+  }
+}
+
+TEST(Pipeline, PinMaskOfTheWrongSizeAndBadOptionsAreRefused) {
+  const auto m = test::cylinder();
+  try {
+    run_pipeline(m.positions, m.triangles, {true, false}, {}, {});
+    ADD_FAILURE() << "accepted";
+  } catch (const EngineError& e) {
+    EXPECT_EQ(e.status(), Status::invalid_argument);
+  }
+  PipelineOptions bad;
+  bad.omega = -1.0;
+  EXPECT_THROW(check_options(bad), EngineError);
+  bad = {};
+  bad.curve_options.grid_resolution = 3;
+  EXPECT_THROW(check_options(bad), EngineError);
+  EXPECT_NO_THROW(check_options({}));
+}
+
+TEST(Pipeline, NoInteriorVertexIsRefused) {
+  const auto m = test::plane(2, 5);  // a strip: every vertex on the rim
+  try {
+    run_pipeline(m.positions, m.triangles, {}, {}, {});
+    ADD_FAILURE() << "accepted";
+  } catch (const EngineError& e) {
+    EXPECT_EQ(e.status(), Status::no_interior_vertex);
+  }
+}
+
+TEST(Pipeline, FacesOfPatchesAndTargetsOnTheirOwnPatch) {
+  const auto patches = faces_of_patches({1, 0, 1, 2}, 3);
+  ASSERT_EQ(patches.size(), 3u);
+  EXPECT_EQ(patches[0], std::vector<Eigen::Index>({1}));
+  EXPECT_EQ(patches[1], std::vector<Eigen::Index>({0, 2}));
+  EXPECT_EQ(patches[2], std::vector<Eigen::Index>({3}));
+}
+
+}  // namespace
+}  // namespace developable

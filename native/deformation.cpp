@@ -311,10 +311,25 @@ Positions NormalGuidedDeformation::step_coupled(const Positions& current) const 
   return next;
 }
 
+void NormalGuidedDeformation::set_normal_weights(Eigen::VectorXd weights) {
+  if (weights.size() != 0 && weights.size() != triangles_.rows())
+    throw EngineError(Status::internal_error, "deformation: one normal weight per triangle");
+  for (Eigen::Index f = 0; f < weights.size(); ++f)
+    if (!(weights[f] >= 0.0 && weights[f] <= 1.0))
+      throw EngineError(Status::internal_error, "deformation: normal weights must be in [0, 1]");
+  normal_weights_ = std::move(weights);
+}
+
 Positions NormalGuidedDeformation::step_decoupled(const Positions& current, const Normals& normals) const {
-  const double fraction = omega_ * omega_ / (1.0 + omega_ * omega_);
+  const double full_fraction = omega_ * omega_ / (1.0 + omega_ * omega_);
+  const bool weighted = normal_weights_.size() != 0;
   Positions rhs = Positions::Zero(free_count_, 3);
   for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+    double fraction = full_fraction;
+    if (weighted) {
+      const double w = omega_ * normal_weights_[f];
+      fraction = w * w / (1.0 + w * w);
+    }
     const int i = triangles_(f, 0), j = triangles_(f, 1), k = triangles_(f, 2);
     const Eigen::Vector3d pi = vertex(current, i), pj = vertex(current, j), pk = vertex(current, k);
     const Eigen::Vector3d normal = normals.row(f).transpose();

@@ -86,6 +86,14 @@ class NormalGuidedDeformation {
   // one only stores them.
   void set_targets(const Normals& targets);
 
+  // Per-triangle factors in [0, 1] on omega (decoupled formulation only; the
+  // coupled one keeps omega, as refactoring for each change would cost a
+  // factorisation): a triangle with factor s is turned by the fraction
+  // (s omega)^2 / (1 + (s omega)^2) toward its target, 0 keeps its shape.
+  // Empty: all 1. Used to trust thin triangles' normals less and to damp
+  // triangles that a step would turn over (pipeline.cpp).
+  void set_normal_weights(Eigen::VectorXd weights);
+
   // One iteration: the positions minimising Eq. 4 with c from `current`.
   // Pinned vertices are copied from `current`. Throws
   // EngineError(numerical_failure) when the solve fails or gives non-finite values.
@@ -112,6 +120,7 @@ class NormalGuidedDeformation {
   double centroid_weight_;
   Formulation formulation_;
   Normals targets_;
+  Eigen::VectorXd normal_weights_;  // per triangle in [0, 1], or empty (all 1)
   std::vector<int> free_index_;  // vertex -> unknown number, -1 when pinned
   Eigen::Index free_count_ = 0;
   Eigen::SparseMatrix<double> free_free_;    // normal matrix on the free unknowns

@@ -84,6 +84,7 @@ struct PipelineStats {
   double max_defect_before = 0.0, max_defect_after = 0.0;
   double change_percent = 0.0;                            // dE^mean, %
   double max_vertex_move = 0.0;                           // caller's units
+  int fold_retries = 0;  // extra solves and shortenings of steps that would have folded
   double time_decompose_ms = 0.0, time_iterate_ms = 0.0, time_total_ms = 0.0;  // t_D, t_I, t_T
   ResultKind result = ResultKind::unchanged;
   Eigen::Index faces_turned_over = 0;  // faces of the result > 90 degrees from the input's

@@ -133,6 +133,7 @@ class Engine:
         assert self.lib.dev_result_stats(handle, ctypes.byref(stats)) == 0
         r.stats = {name: getattr(stats, name) for name, _ in Stats._fields_}
         r.stats["stop_reason"] = STOP_REASONS[stats.stop_reason]
+        r.stats["result_message"] = stats.result_message.decode("utf-8", "replace")
 
         def fetch(name, shape, dtype):
             out = np.zeros(shape, dtype=dtype)

@@ -122,5 +122,27 @@ TEST(Deformation, Refusals) {
                EngineError);
 }
 
+TEST(Deformation, ZeroNormalWeightsKeepTheShapeAndOnesChangeNothing) {
+  auto m = test::cylinder(8, 16);
+  test::add_noise(m.positions, 0.02, 3);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  Normals targets = normals;
+  targets.col(2).array() += 0.3;  // targets off the normals: a step moves the mesh
+  targets.rowwise().normalize();
+  NormalGuidedDeformation deformation(m.triangles, std::vector<bool>(m.positions.rows(), false),
+                                      Eigen::VectorXd::Ones(m.triangles.rows()), 5.0, 0.3,
+                                      Formulation::decoupled, targets);
+  const Positions full = deformation.step(m.positions, normals);
+  EXPECT_GT((full - m.positions).cwiseAbs().maxCoeff(), 1e-3);
+  deformation.set_normal_weights(Eigen::VectorXd::Ones(m.triangles.rows()));
+  EXPECT_TRUE(same_bits(deformation.step(m.positions, normals), full));
+  deformation.set_normal_weights(Eigen::VectorXd::Zero(m.triangles.rows()));
+  EXPECT_LT((deformation.step(m.positions, normals) - m.positions).cwiseAbs().maxCoeff(), 1e-12);
+  Eigen::VectorXd bad = Eigen::VectorXd::Ones(m.triangles.rows());
+  bad[1] = 1.5;
+  EXPECT_THROW(deformation.set_normal_weights(bad), EngineError);
+  EXPECT_THROW(deformation.set_normal_weights(Eigen::VectorXd::Ones(3)), EngineError);
+}
+
 }  // namespace
 }  // namespace developable

@@ -87,5 +87,31 @@ TEST(Pipeline, FacesOfPatchesAndTargetsOnTheirOwnPatch) {
   EXPECT_EQ(patches[2], std::vector<Eigen::Index>({3}));
 }
 
+// The result check (issue 11): whatever the run does, the result turns no
+// face over and is no worse than the input on mean |defect| and flat share;
+// the input comes back, flagged unchanged with a message, otherwise.
+TEST(Pipeline, ResultsAreNeverFoldedOrWorse) {
+  for (unsigned seed = 0; seed < 6; ++seed) {
+    auto m = seed % 2 ? test::cylinder(10 + seed, 20) : test::cone(10 + seed, 24);
+    test::add_noise(m.positions, 0.01 + 0.02 * seed, seed);
+    PipelineOptions options;
+    options.omega = seed >= 4 ? 50.0 : 5.0;
+    const PipelineResult r = run_pipeline(m.positions, m.triangles, {}, options, {});
+    const Normals before = face_normals(m.positions, m.triangles);
+    const Normals after = face_normals(r.positions, m.triangles);
+    for (Eigen::Index f = 0; f < before.rows(); ++f)
+      ASSERT_GE(before.row(f).dot(after.row(f)), 0.0) << "seed " << seed << " face " << f;
+    EXPECT_EQ(r.stats.faces_turned_over, 0);
+    EXPECT_LE(r.stats.mean_defect_after, r.stats.mean_defect_before);
+    EXPECT_GE(r.stats.flat_share_after, r.stats.flat_share_before);
+    if (r.stats.result == ResultKind::unchanged) {
+      EXPECT_TRUE(r.positions == m.positions);
+      EXPECT_FALSE(r.stats.result_message.empty());
+    } else {
+      EXPECT_LT(r.stats.mean_defect_after, r.stats.mean_defect_before);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace developable

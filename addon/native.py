@@ -122,6 +122,84 @@ class dev_stats(ctypes.Structure):
     ]
 
 
+class dev_pattern_params(ctypes.Structure):
+    _fields_ = [
+        ("sheet_width_mm", ctypes.c_double),
+        ("sheet_height_mm", ctypes.c_double),
+        ("margin_mm", ctypes.c_double),
+        ("spacing_mm", ctypes.c_double),
+        ("scale", ctypes.c_double),
+        ("unit_mm", ctypes.c_double),
+        ("seam_tolerance", ctypes.c_double),
+        ("arap_iterations", ctypes.c_int32),
+        ("layout", ctypes.c_int32),
+        ("unit_name", ctypes.c_char * 8),
+        ("svg_path", ctypes.c_char_p),
+    ]
+
+
+class dev_pattern_stats(ctypes.Structure):
+    _fields_ = [
+        ("faces", ctypes.c_int64),
+        ("pieces", ctypes.c_int64),
+        ("sheets", ctypes.c_int64),
+        ("seams", ctypes.c_int64),
+        ("cut_edges", ctypes.c_int64),
+        ("splits", ctypes.c_int64),
+        ("svg_files", ctypes.c_int64),
+        ("max_strain", ctypes.c_double),
+        ("mean_strain", ctypes.c_double),
+        ("max_area_change", ctypes.c_double),
+        ("scale", ctypes.c_double),
+        ("time_unfold_ms", ctypes.c_double),
+        ("time_layout_ms", ctypes.c_double),
+        ("time_total_ms", ctypes.c_double),
+    ]
+
+
+class dev_pattern_piece(ctypes.Structure):
+    _fields_ = [
+        ("patch", ctypes.c_int32),
+        ("sheet", ctypes.c_int32),
+        ("faces", ctypes.c_int64),
+        ("cut_edges", ctypes.c_int32),
+        ("splits", ctypes.c_int32),
+        ("max_strain", ctypes.c_double),
+        ("mean_strain", ctypes.c_double),
+        ("area_3d", ctypes.c_double),
+        ("area_flat", ctypes.c_double),
+        ("area_change", ctypes.c_double),
+        ("outline_length", ctypes.c_double),
+        ("width_mm", ctypes.c_double),
+        ("height_mm", ctypes.c_double),
+        ("label", ctypes.c_char * 16),
+    ]
+
+
+class dev_pattern_seam(ctypes.Structure):
+    _fields_ = [
+        ("piece_a", ctypes.c_int32),
+        ("piece_b", ctypes.c_int32),
+        ("cut", ctypes.c_int32),
+        ("edges", ctypes.c_int64),
+        ("length_3d", ctypes.c_double),
+        ("length_a", ctypes.c_double),
+        ("length_b", ctypes.c_double),
+        ("label", ctypes.c_char * 16),
+    ]
+
+
+# Pattern parameters settable through unfold(params=...), in struct order.
+PATTERN_PARAM_NAMES = ("sheet_width_mm", "sheet_height_mm", "margin_mm", "spacing_mm", "scale",
+                       "unit_mm", "seam_tolerance", "arap_iterations", "layout", "unit_name")
+
+# Length of one model unit in mm, for the unit names the tool and the add-on offer.
+UNIT_MM = {"m": 1000.0, "cm": 10.0, "mm": 1.0, "in": 25.4}
+
+# Sheet sizes by name, portrait (width, height) in mm.
+SHEETS_MM = {"a4": (210.0, 297.0), "a3": (297.0, 420.0), "letter": (215.9, 279.4)}
+
+
 PROGRESS_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_double, ctypes.c_char_p, ctypes.c_void_p)
 
 _P = ctypes.POINTER
@@ -200,6 +278,28 @@ def _declare(lib):
     lib.dev_result_curve_info.argtypes = [_result_p, ctypes.c_int64, _i64_p, _i32_p, _i32_p]
     lib.dev_result_curve_points.restype = ctypes.c_int32
     lib.dev_result_curve_points.argtypes = [_result_p, ctypes.c_int64, _dbl_p, ctypes.c_int64]
+    lib.dev_default_pattern_params.restype = None
+    lib.dev_default_pattern_params.argtypes = [_P(dev_pattern_params)]
+    lib.dev_unfold.restype = ctypes.c_int32
+    lib.dev_unfold.argtypes = [_dbl_p, ctypes.c_int64, _i32_p, ctypes.c_int64, _i32_p,
+                               _P(dev_pattern_params), _P(_result_p), ctypes.c_char_p, ctypes.c_size_t]
+    lib.dev_pattern_free.restype = None
+    lib.dev_pattern_free.argtypes = [_result_p]
+    lib.dev_pattern_stats_get.restype = ctypes.c_int32
+    lib.dev_pattern_stats_get.argtypes = [_result_p, _P(dev_pattern_stats)]
+    for name, ptr in (("dev_pattern_corner_uvs", _dbl_p), ("dev_pattern_sheet_uvs", _dbl_p),
+                      ("dev_pattern_piece_ids", _i32_p), ("dev_pattern_face_strain", _dbl_p)):
+        fn = getattr(lib, name)
+        fn.restype = ctypes.c_int32
+        fn.argtypes = [_result_p, ptr, ctypes.c_int64]
+    lib.dev_pattern_piece_get.restype = ctypes.c_int32
+    lib.dev_pattern_piece_get.argtypes = [_result_p, ctypes.c_int64, _P(dev_pattern_piece)]
+    lib.dev_pattern_seam_get.restype = ctypes.c_int32
+    lib.dev_pattern_seam_get.argtypes = [_result_p, ctypes.c_int64, _P(dev_pattern_seam)]
+    lib.dev_pattern_seam_edges.restype = ctypes.c_int32
+    lib.dev_pattern_seam_edges.argtypes = [_result_p, ctypes.c_int64, _i32_p, ctypes.c_int64]
+    lib.dev_pattern_svg_file.restype = ctypes.c_int32
+    lib.dev_pattern_svg_file.argtypes = [_result_p, ctypes.c_int64, ctypes.c_char_p, ctypes.c_int64]
 
 
 def load(force_reload=False):
@@ -400,3 +500,110 @@ def run(positions, triangles, pinned=None, params=None, progress=None):
         return _copy_result(lib, res, n, t)
     finally:
         lib.dev_result_free(res)
+
+
+class Pattern:
+    """One unfolding (dev_unfold), copied out of the native result.
+
+    corner_uvs: (t, 3, 2) piece-local flat corners, model units;
+    sheet_uvs: (t, 3, 2) corners on their sheets in mm (x right, y down), or None without layout;
+    piece_ids: (t,) int32; face_strain: (t,) float64;
+    pieces: list of dicts (dev_pattern_piece fields, label as str);
+    seams: list of dicts (dev_pattern_seam fields, label as str, "vertices": (k, 2) int32 directed
+    edges in chain order); files: SVG paths written; stats: dict (dev_pattern_stats)."""
+
+    def __init__(self):
+        self.stats = {}
+        self.corner_uvs = None
+        self.sheet_uvs = None
+        self.piece_ids = None
+        self.face_strain = None
+        self.pieces = []
+        self.seams = []
+        self.files = []
+
+
+def default_pattern_params():
+    p = dev_pattern_params()
+    load().dev_default_pattern_params(ctypes.byref(p))
+    return {name: (getattr(p, name).decode() if name == "unit_name" else getattr(p, name))
+            for name in PATTERN_PARAM_NAMES}
+
+
+def _struct_dict(st):
+    out = {}
+    for name, _ in st._fields_:
+        value = getattr(st, name)
+        out[name] = value.decode("utf-8", "replace") if isinstance(value, bytes) else value
+    return out
+
+
+def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None):
+    """Unfolds (dev_unfold). params: dict of PATTERN_PARAM_NAMES -> value (unit_name may also
+    set unit_mm when that is not given); svg_path: None or the SVG to write.
+    Returns Pattern; raises EngineError or LibraryError."""
+    lib = load()
+    pos = _as_positions(positions)
+    tri = _as_triangles(triangles)
+    n, t = pos.shape[0], tri.shape[0]
+    p = dev_pattern_params()
+    lib.dev_default_pattern_params(ctypes.byref(p))
+    values = dict(params or {})
+    if "unit_name" in values and "unit_mm" not in values and values["unit_name"] in UNIT_MM:
+        values["unit_mm"] = UNIT_MM[values["unit_name"]]
+    for name, value in values.items():
+        if name not in PATTERN_PARAM_NAMES:
+            raise EngineError(7, "unknown pattern parameter %r" % name)
+        setattr(p, name, value.encode() if name == "unit_name" else value)
+    path_bytes = os.fsencode(svg_path) if svg_path else None
+    p.svg_path = path_bytes
+    ids_ptr = None
+    if patch_ids is not None:
+        ids = np.ascontiguousarray(patch_ids, dtype=np.int32).reshape(-1)
+        if ids.shape[0] != t:
+            raise EngineError(7, "patch_ids has %d entries for %d triangles" % (ids.shape[0], t))
+        ids_ptr = ids.ctypes.data_as(_i32_p)
+    res = _result_p()
+    msg = ctypes.create_string_buffer(1024)
+    status = lib.dev_unfold(pos.ctypes.data_as(_dbl_p), n, tri.ctypes.data_as(_i32_p), t, ids_ptr,
+                            ctypes.byref(p), ctypes.byref(res), msg, len(msg))
+    if status != STATUS_OK:
+        if res.value:
+            lib.dev_pattern_free(res)
+        raise EngineError(status, msg.value.decode("utf-8", "replace"))
+    try:
+        out = Pattern()
+        st = dev_pattern_stats()
+        _check(lib.dev_pattern_stats_get(res, ctypes.byref(st)), "dev_pattern_stats_get")
+        out.stats = _struct_dict(st)
+
+        def get(fn, shape, dtype, ptr):
+            a = np.empty(shape, dtype=dtype)
+            _check(fn(res, a.ctypes.data_as(ptr), a.size), fn.__name__)
+            return a
+
+        out.corner_uvs = get(lib.dev_pattern_corner_uvs, (t, 3, 2), np.float64, _dbl_p)
+        if p.layout:
+            out.sheet_uvs = get(lib.dev_pattern_sheet_uvs, (t, 3, 2), np.float64, _dbl_p)
+        out.piece_ids = get(lib.dev_pattern_piece_ids, (t,), np.int32, _i32_p)
+        out.face_strain = get(lib.dev_pattern_face_strain, (t,), np.float64, _dbl_p)
+        for i in range(st.pieces):
+            piece = dev_pattern_piece()
+            _check(lib.dev_pattern_piece_get(res, i, ctypes.byref(piece)), "dev_pattern_piece_get")
+            out.pieces.append(_struct_dict(piece))
+        for i in range(st.seams):
+            seam = dev_pattern_seam()
+            _check(lib.dev_pattern_seam_get(res, i, ctypes.byref(seam)), "dev_pattern_seam_get")
+            d = _struct_dict(seam)
+            edges = np.empty((seam.edges, 2), dtype=np.int32)
+            _check(lib.dev_pattern_seam_edges(res, i, edges.ctypes.data_as(_i32_p), edges.size),
+                   "dev_pattern_seam_edges")
+            d["vertices"] = edges
+            out.seams.append(d)
+        buf = ctypes.create_string_buffer(4096)
+        for i in range(st.svg_files):
+            _check(lib.dev_pattern_svg_file(res, i, buf, len(buf)), "dev_pattern_svg_file")
+            out.files.append(os.fsdecode(buf.value))
+        return out
+    finally:
+        lib.dev_pattern_free(res)

@@ -4,9 +4,13 @@
 
 #include "memory_budget.h"
 #include "mesh_input.h"
+#include "pattern_layout.h"
+#include "pattern_svg.h"
 #include "pipeline.h"
+#include "unfold.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <new>
 #include <string>
@@ -17,6 +21,14 @@
 
 struct dev_result {
   developable::PipelineResult pipeline;
+};
+
+struct dev_pattern {
+  developable::UnfoldResult unfolded;
+  developable::Layout layout;
+  bool laid_out = false;
+  std::vector<std::string> files;
+  dev_pattern_stats stats{};
 };
 
 namespace {
@@ -137,6 +149,15 @@ int32_t copy_out(const dev_result* result, T* out, int64_t capacity, Source&& so
   if (capacity < size) return DEV_STATUS_INVALID_ARGUMENT;
   std::copy(values.data(), values.data() + size, out);
   return DEV_STATUS_OK;
+}
+
+void copy_label(char (&out)[16], const std::string& text) {
+  std::memset(out, 0, sizeof out);
+  std::memcpy(out, text.data(), std::min(sizeof out - 1, text.size()));
+}
+
+double elapsed_ms(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
 }
 
 }  // namespace
@@ -299,6 +320,189 @@ int32_t dev_result_curve_points(const dev_result* result, int64_t index, double*
   if (capacity < 3 * static_cast<int64_t>(points.size())) return DEV_STATUS_INVALID_ARGUMENT;
   for (size_t i = 0; i < points.size(); ++i)
     for (int axis = 0; axis < 3; ++axis) out[3 * i + axis] = points[i][axis];
+  return DEV_STATUS_OK;
+}
+
+void dev_default_pattern_params(dev_pattern_params* params) {
+  if (params == nullptr) return;
+  const developable::LayoutOptions layout;
+  const developable::UnfoldOptions unfold;
+  *params = dev_pattern_params{};
+  params->sheet_width_mm = layout.sheet_width;
+  params->sheet_height_mm = layout.sheet_height;
+  params->margin_mm = layout.margin;
+  params->spacing_mm = layout.spacing;
+  params->scale = layout.scale;
+  params->unit_mm = layout.unit_mm;
+  params->seam_tolerance = unfold.seam_tolerance;
+  params->arap_iterations = unfold.arap_iterations;
+  params->layout = 1;
+  std::memcpy(params->unit_name, layout.unit_name.c_str(), layout.unit_name.size() + 1);
+  params->svg_path = nullptr;
+}
+
+int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* triangles,
+                   int64_t n_triangles, const int32_t* patch_ids, const dev_pattern_params* params,
+                   dev_pattern** result, char* message, size_t message_capacity) {
+  if (result != nullptr) *result = nullptr;
+  return guarded(message, message_capacity, [&] {
+    const auto start = std::chrono::steady_clock::now();
+    require(result != nullptr, "result is a null pointer");
+    check_buffers(positions, n_vertices, triangles, n_triangles);
+    dev_pattern_params p;
+    dev_default_pattern_params(&p);
+    if (params != nullptr) p = *params;
+    require(std::memchr(p.unit_name, 0, sizeof p.unit_name) != nullptr, "unit_name is not NUL-terminated");
+    const developable::Positions mesh_positions = copy_positions(positions, n_vertices);
+    const developable::Triangles mesh_triangles = copy_triangles(triangles, n_triangles);
+    developable::validate_mesh(mesh_positions, mesh_triangles);
+    std::vector<int> patches;
+    if (patch_ids != nullptr) patches.assign(patch_ids, patch_ids + n_triangles);
+    developable::UnfoldOptions unfold_options;
+    unfold_options.arap_iterations = p.arap_iterations;
+    unfold_options.seam_tolerance = p.seam_tolerance;
+    developable::LayoutOptions layout_options;
+    layout_options.sheet_width = p.sheet_width_mm;
+    layout_options.sheet_height = p.sheet_height_mm;
+    layout_options.margin = p.margin_mm;
+    layout_options.spacing = p.spacing_mm;
+    layout_options.scale = p.scale;
+    layout_options.unit_mm = p.unit_mm;
+    layout_options.unit_name = p.unit_name;
+    const bool write_svg = p.svg_path != nullptr && p.svg_path[0] != '\0';
+    require(p.layout != 0 || !write_svg, "svg_path needs layout");
+
+    auto owned = std::make_unique<dev_pattern>();
+    owned->unfolded = developable::unfold(mesh_positions, mesh_triangles, patches, unfold_options);
+    dev_pattern_stats& st = owned->stats;
+    st.time_unfold_ms = elapsed_ms(start);
+    const auto layout_start = std::chrono::steady_clock::now();
+    if (p.layout != 0) {
+      owned->layout = developable::layout_pattern(owned->unfolded, mesh_triangles, layout_options);
+      owned->laid_out = true;
+      if (write_svg) owned->files = developable::write_pattern_svg(owned->layout, owned->unfolded, p.svg_path);
+    }
+    st.time_layout_ms = elapsed_ms(layout_start);
+    const auto& u = owned->unfolded;
+    st.faces = n_triangles;
+    st.pieces = static_cast<int64_t>(u.pieces.size());
+    st.sheets = owned->laid_out ? owned->layout.sheets : 0;
+    st.seams = static_cast<int64_t>(u.seams.size());
+    st.splits = u.split_count;
+    st.svg_files = static_cast<int64_t>(owned->files.size());
+    double strain_sum = 0.0;
+    for (const auto& piece : u.pieces) {
+      st.cut_edges += piece.cut_edges;
+      st.max_strain = std::max(st.max_strain, piece.max_strain);
+      st.max_area_change = std::max(st.max_area_change, std::abs(piece.area_change));
+      strain_sum += piece.mean_strain * static_cast<double>(piece.faces);
+    }
+    st.mean_strain = strain_sum / static_cast<double>(n_triangles);
+    st.scale = owned->laid_out ? owned->layout.options.scale : 0.0;
+    st.time_total_ms = elapsed_ms(start);
+    *result = owned.release();
+  });
+}
+
+void dev_pattern_free(dev_pattern* pattern) { delete pattern; }
+
+int32_t dev_pattern_stats_get(const dev_pattern* pattern, dev_pattern_stats* stats) {
+  if (pattern == nullptr || stats == nullptr) return DEV_STATUS_INVALID_ARGUMENT;
+  *stats = pattern->stats;
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_pattern_corner_uvs(const dev_pattern* pattern, double* out, int64_t capacity) {
+  if (pattern == nullptr || out == nullptr) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& c = pattern->unfolded.corners;
+  if (capacity < static_cast<int64_t>(c.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  std::copy(c.data(), c.data() + c.size(), out);
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_pattern_sheet_uvs(const dev_pattern* pattern, double* out, int64_t capacity) {
+  if (pattern == nullptr || out == nullptr || !pattern->laid_out) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& c = pattern->layout.corners;
+  if (capacity < static_cast<int64_t>(c.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  std::copy(c.data(), c.data() + c.size(), out);
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_pattern_piece_ids(const dev_pattern* pattern, int32_t* out, int64_t capacity) {
+  if (pattern == nullptr || out == nullptr) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& ids = pattern->unfolded.piece_of_face;
+  if (capacity < static_cast<int64_t>(ids.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  std::copy(ids.begin(), ids.end(), out);
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_pattern_face_strain(const dev_pattern* pattern, double* out, int64_t capacity) {
+  if (pattern == nullptr || out == nullptr) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& s = pattern->unfolded.face_strain;
+  if (capacity < static_cast<int64_t>(s.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  std::copy(s.data(), s.data() + s.size(), out);
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_pattern_piece_get(const dev_pattern* pattern, int64_t index, dev_pattern_piece* piece) {
+  if (pattern == nullptr || piece == nullptr || index < 0 ||
+      index >= static_cast<int64_t>(pattern->unfolded.pieces.size()))
+    return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& p = pattern->unfolded.pieces[static_cast<size_t>(index)];
+  *piece = dev_pattern_piece{};
+  piece->patch = p.patch;
+  piece->sheet = pattern->laid_out ? pattern->layout.pieces[static_cast<size_t>(index)].sheet : -1;
+  piece->faces = p.faces;
+  piece->cut_edges = p.cut_edges;
+  piece->splits = p.splits;
+  piece->max_strain = p.max_strain;
+  piece->mean_strain = p.mean_strain;
+  piece->area_3d = p.area_3d;
+  piece->area_flat = p.area_flat;
+  piece->area_change = p.area_change;
+  piece->outline_length = p.outline_length;
+  if (pattern->laid_out) {
+    piece->width_mm = pattern->layout.pieces[static_cast<size_t>(index)].size.x();
+    piece->height_mm = pattern->layout.pieces[static_cast<size_t>(index)].size.y();
+  }
+  copy_label(piece->label, developable::piece_label(static_cast<int>(index)));
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_pattern_seam_get(const dev_pattern* pattern, int64_t index, dev_pattern_seam* seam) {
+  if (pattern == nullptr || seam == nullptr || index < 0 ||
+      index >= static_cast<int64_t>(pattern->unfolded.seams.size()))
+    return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& s = pattern->unfolded.seams[static_cast<size_t>(index)];
+  *seam = dev_pattern_seam{};
+  seam->piece_a = s.piece_a;
+  seam->piece_b = s.piece_b;
+  seam->cut = s.cut ? 1 : 0;
+  seam->edges = static_cast<int64_t>(s.edges.size());
+  seam->length_3d = s.length_3d;
+  seam->length_a = s.length_a;
+  seam->length_b = s.length_b;
+  copy_label(seam->label, std::to_string(index + 1));
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_pattern_seam_edges(const dev_pattern* pattern, int64_t index, int32_t* out, int64_t capacity) {
+  if (pattern == nullptr || out == nullptr || index < 0 ||
+      index >= static_cast<int64_t>(pattern->unfolded.seams.size()))
+    return DEV_STATUS_INVALID_ARGUMENT;
+  const auto& edges = pattern->unfolded.seams[static_cast<size_t>(index)].edges;
+  if (capacity < 2 * static_cast<int64_t>(edges.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  for (size_t i = 0; i < edges.size(); ++i) out[2 * i] = edges[i][0], out[2 * i + 1] = edges[i][1];
+  return DEV_STATUS_OK;
+}
+
+int32_t dev_pattern_svg_file(const dev_pattern* pattern, int64_t index, char* out, int64_t capacity) {
+  if (pattern == nullptr || out == nullptr || index < 0 ||
+      index >= static_cast<int64_t>(pattern->files.size()))
+    return DEV_STATUS_INVALID_ARGUMENT;
+  const std::string& path = pattern->files[static_cast<size_t>(index)];
+  if (capacity < static_cast<int64_t>(path.size()) + 1) return DEV_STATUS_INVALID_ARGUMENT;
+  std::memcpy(out, path.c_str(), path.size() + 1);
   return DEV_STATUS_OK;
 }
 

@@ -205,6 +205,113 @@ DEV_API int32_t dev_result_curve_info(const dev_result* result, int64_t index,
 DEV_API int32_t dev_result_curve_points(const dev_result* result, int64_t index,
                                         double* out, int64_t capacity);
 
+/* ---- Flat patterns (ABI 3): unfold the patches, lay them out, export SVG ----
+ * Pipeline: unfold (native/unfold.h), pattern_layout.h, pattern_svg.h. */
+
+typedef struct dev_pattern_params {
+  double sheet_width_mm;    /* > 0. Default 210 (A4 portrait). */
+  double sheet_height_mm;   /* > 0. Default 297. */
+  double margin_mm;         /* >= 0, kept free on every side. Default 10. */
+  double spacing_mm;        /* >= 0, at least between two pieces. Default 4. */
+  double scale;             /* paper length per model length (1 = 1:1, 0.1 = 1:10), > 0; 0 = automatic:
+                               the largest of 1, 1/2, 1/5, 1/10, ... at which every piece fits.
+                               Default 1. */
+  double unit_mm;           /* one model unit in mm, > 0. Default 1000 (metres). */
+  double seam_tolerance;    /* >= 0: largest |l_flat / l_3d - 1| of a piece's outline edge; a piece beyond
+                               it is split, so both sides of a seam match within twice this. 0 = no
+                               limit (split only what overlaps). Default 0.0025. */
+  int32_t arap_iterations;  /* >= 0: as-rigid-as-possible rounds after the conformal start. Default 50. */
+  int32_t layout;           /* nonzero: lay the pieces out on sheets (sheet UVs, labels, SVG);
+                               0: unfold only. Default 1. */
+  char unit_name[8];        /* the model unit's name for the scale bar, NUL-terminated ("m", "cm",
+                               "mm", "in"). Default "m". */
+  const char* svg_path;     /* NULL or "": write no file; else the SVG: this path for one sheet,
+                               <stem>-1.svg, <stem>-2.svg, ... for more. Default NULL. */
+} dev_pattern_params;
+
+typedef struct dev_pattern_stats {
+  int64_t faces;
+  int64_t pieces;
+  int64_t sheets;             /* 0 without layout */
+  int64_t seams;
+  int64_t cut_edges;          /* edges cut inside patches to make discs */
+  int64_t splits;             /* pieces split because their flat map overlapped itself */
+  int64_t svg_files;
+  double max_strain;          /* largest |l_flat / l_3d - 1| over all face edges */
+  double mean_strain;         /* mean of the same over all face edges */
+  double max_area_change;     /* largest |area_flat / area_3d - 1| over the pieces */
+  double scale;               /* as used (resolved when automatic); 0 without layout */
+  double time_unfold_ms;
+  double time_layout_ms;      /* layout and SVG */
+  double time_total_ms;
+} dev_pattern_stats;
+
+typedef struct dev_pattern_piece {
+  int32_t patch;              /* the patch id its faces came from */
+  int32_t sheet;              /* 0-based; -1 without layout */
+  int64_t faces;
+  int32_t cut_edges;
+  int32_t splits;             /* how often its patch was split to get here */
+  double max_strain;          /* relative edge-length change, as in dev_pattern_stats */
+  double mean_strain;
+  double area_3d;             /* model units squared */
+  double area_flat;
+  double area_change;         /* area_flat / area_3d - 1 */
+  double outline_length;      /* flat outline, model units */
+  double width_mm;            /* bounding box on the sheet; 0 without layout */
+  double height_mm;
+  char label[16];             /* "A", "B", ... (also without layout) */
+} dev_pattern_piece;
+
+typedef struct dev_pattern_seam {
+  int32_t piece_a;            /* the piece left of the seam's directed edges */
+  int32_t piece_b;            /* == piece_a for a cut inside one piece */
+  int32_t cut;                /* 1: both sides are of the same patch (cut or split); 0: a patch border */
+  int64_t edges;
+  double length_3d;           /* model units */
+  double length_a;            /* flat length on piece a, model units */
+  double length_b;
+  char label[16];             /* the match label both sides carry on the sheets: "1", "2", ... */
+} dev_pattern_seam;
+
+typedef struct dev_pattern dev_pattern;
+
+DEV_API void dev_default_pattern_params(dev_pattern_params* params);
+
+/* Unfolds the mesh patch by patch, lays the pieces out and optionally writes the SVG.
+ *   positions, triangles: as for dev_run (checked by the same validation).
+ *   patch_ids: NULL (one patch) or n_triangles int32 >= 0, e.g. dev_result_patch_ids.
+ *   params: NULL for the defaults.
+ *   result: receives a new pattern on DEV_STATUS_OK, NULL otherwise.
+ * Returns a DEV_STATUS_* code; a piece that does not fit the sheet at the given scale, a bad
+ * sheet size or an unwritable svg_path is DEV_STATUS_INVALID_ARGUMENT with the reason. */
+DEV_API int32_t dev_unfold(const double* positions, int64_t n_vertices,
+                           const int32_t* triangles, int64_t n_triangles,
+                           const int32_t* patch_ids, const dev_pattern_params* params,
+                           dev_pattern** result, char* message, size_t message_capacity);
+
+DEV_API void dev_pattern_free(dev_pattern* pattern);
+
+/* Accessors, same rules as the dev_result ones. */
+DEV_API int32_t dev_pattern_stats_get(const dev_pattern* pattern, dev_pattern_stats* stats);
+/* n_triangles * 3 * 2 float64: corner k of face f at 6 f + 2 k, piece-local, model units. */
+DEV_API int32_t dev_pattern_corner_uvs(const dev_pattern* pattern, double* out, int64_t capacity);
+/* n_triangles * 3 * 2 float64: the same on the sheets, mm, x right and y down from the top left
+ * corner of the piece's sheet. DEV_STATUS_INVALID_ARGUMENT without layout. */
+DEV_API int32_t dev_pattern_sheet_uvs(const dev_pattern* pattern, double* out, int64_t capacity);
+/* n_triangles int32: piece of each face. */
+DEV_API int32_t dev_pattern_piece_ids(const dev_pattern* pattern, int32_t* out, int64_t capacity);
+/* n_triangles float64: largest |l_flat / l_3d - 1| of the face's edges. */
+DEV_API int32_t dev_pattern_face_strain(const dev_pattern* pattern, double* out, int64_t capacity);
+DEV_API int32_t dev_pattern_piece_get(const dev_pattern* pattern, int64_t index, dev_pattern_piece* piece);
+DEV_API int32_t dev_pattern_seam_get(const dev_pattern* pattern, int64_t index, dev_pattern_seam* seam);
+/* edges * 2 int32 of seam `index`: (from, to) vertex ids in chain order. */
+DEV_API int32_t dev_pattern_seam_edges(const dev_pattern* pattern, int64_t index, int32_t* out,
+                                       int64_t capacity);
+/* Path of SVG file `index` (0 .. svg_files-1), NUL-terminated, into a buffer of `capacity` chars. */
+DEV_API int32_t dev_pattern_svg_file(const dev_pattern* pattern, int64_t index, char* out,
+                                     int64_t capacity);
+
 #ifdef __cplusplus
 }
 #endif

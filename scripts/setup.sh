@@ -9,7 +9,8 @@ BUILD=${DEVELOPABLE_BUILD_DIR:-$REPO/build}
 
 # Debian packages the build, the add-on and the tests need.
 packages=(cmake g++ make libeigen3-dev libopenmesh-dev libgtest-dev python3-pytest python3-numpy python3-scipy blender xvfb xauth zip
-          clang libclang-rt-14-dev)  # clang: the fuzz run and fuzz_replay (tests/test_hardening*.py)
+          clang libclang-rt-14-dev  # clang: the fuzz run and fuzz_replay (tests/test_hardening*.py)
+          librsvg2-bin)             # rsvg-convert: the pattern SVGs rasterised (tests/test_pattern*.py, docs)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -44,6 +44,19 @@ const char* const usage_text =
     "                       (default: 1 on a segmented mesh in refit mode; on one\n"
     "                       patch 0, then 1 if the run stalls far from developable)\n"
     "  --report FILE.json   write the run's figures, patch ids and curves as JSON\n"
+    "                       (with --pattern also the pattern's pieces and seams)\n"
+    "\n"
+    "flat pattern of the result (each patch unfolded, laid out on sheets):\n"
+    "  --pattern OUT.svg    write the pattern: OUT.svg for one sheet, OUT-1.svg,\n"
+    "                       OUT-2.svg, ... for more\n"
+    "  --sheet WxH|a4|a3|letter\n"
+    "                       sheet size in mm, portrait (default a4 = 210x297)\n"
+    "  --margin MM          free margin on every side of a sheet (default 10)\n"
+    "  --scale X|auto       paper length per model length: 1 = 1:1 (default),\n"
+    "                       0.1 = 1:10; auto = the largest of 1, 1/2, 1/5, ... that fits\n"
+    "  --unit m|cm|mm|in    the model's unit (default m)\n"
+    "  --seam-tolerance X   largest relative length change of a piece's outline\n"
+    "                       edge before the piece is split (default 0.0025; 0 = none)\n"
     "  --quiet              no progress on stderr\n"
     "  --help               this text\n"
     "\n"
@@ -127,8 +140,57 @@ std::string json_string(const char* text) {
   return s.str();
 }
 
+// The "pattern" member of the report: figures, pieces, seams, files.
+std::string pattern_json(const dev_pattern* pattern, const dev_pattern_params& params) {
+  dev_pattern_stats st;
+  dev_pattern_stats_get(pattern, &st);
+  std::ostringstream json;
+  json << "{\"parameters\": {\"sheet_width_mm\": " << json_number(params.sheet_width_mm)
+       << ", \"sheet_height_mm\": " << json_number(params.sheet_height_mm)
+       << ", \"margin_mm\": " << json_number(params.margin_mm) << ", \"unit\": \"" << params.unit_name
+       << "\", \"unit_mm\": " << json_number(params.unit_mm)
+       << ", \"seam_tolerance\": " << json_number(params.seam_tolerance) << "},\n";
+  json << "    \"stats\": {\"pieces\": " << st.pieces << ", \"sheets\": " << st.sheets
+       << ", \"seams\": " << st.seams << ", \"cut_edges\": " << st.cut_edges
+       << ", \"splits\": " << st.splits << ", \"max_strain\": " << json_number(st.max_strain)
+       << ", \"mean_strain\": " << json_number(st.mean_strain)
+       << ", \"max_area_change\": " << json_number(st.max_area_change)
+       << ", \"scale\": " << json_number(st.scale)
+       << ", \"time_unfold_ms\": " << json_number(st.time_unfold_ms)
+       << ", \"time_layout_ms\": " << json_number(st.time_layout_ms)
+       << ", \"time_total_ms\": " << json_number(st.time_total_ms) << "},\n    \"files\": [";
+  char path[4096];
+  for (int64_t i = 0; i < st.svg_files; ++i) {
+    dev_pattern_svg_file(pattern, i, path, sizeof path);
+    json << (i ? ", " : "") << "\"" << json_string(path) << "\"";
+  }
+  json << "],\n    \"pieces\": [";
+  for (int64_t i = 0; i < st.pieces; ++i) {
+    dev_pattern_piece p;
+    dev_pattern_piece_get(pattern, i, &p);
+    json << (i ? "," : "") << "\n      {\"label\": \"" << p.label << "\", \"patch\": " << p.patch
+         << ", \"sheet\": " << p.sheet << ", \"faces\": " << p.faces << ", \"cut_edges\": " << p.cut_edges
+         << ", \"max_strain\": " << json_number(p.max_strain) << ", \"mean_strain\": " << json_number(p.mean_strain)
+         << ", \"area_3d\": " << json_number(p.area_3d) << ", \"area_flat\": " << json_number(p.area_flat)
+         << ", \"area_change\": " << json_number(p.area_change)
+         << ", \"outline_length\": " << json_number(p.outline_length)
+         << ", \"width_mm\": " << json_number(p.width_mm) << ", \"height_mm\": " << json_number(p.height_mm) << "}";
+  }
+  json << "],\n    \"seams\": [";
+  for (int64_t i = 0; i < st.seams; ++i) {
+    dev_pattern_seam m;
+    dev_pattern_seam_get(pattern, i, &m);
+    json << (i ? "," : "") << "\n      {\"label\": \"" << m.label << "\", \"piece_a\": " << m.piece_a
+         << ", \"piece_b\": " << m.piece_b << ", \"cut\": " << (m.cut ? "true" : "false")
+         << ", \"edges\": " << m.edges << ", \"length_3d\": " << json_number(m.length_3d)
+         << ", \"length_a\": " << json_number(m.length_a) << ", \"length_b\": " << json_number(m.length_b) << "}";
+  }
+  json << "]}";
+  return json.str();
+}
+
 void write_report(const std::string& path, const dev_result* result, const dev_stats& s,
-                  const dev_params& params) {
+                  const dev_params& params, const std::string& pattern) {
   std::ostringstream json;
   json << "{\n  \"engine_version\": \"" << dev_version_string() << "\",\n";
   json << "  \"parameters\": {\"omega\": " << json_number(params.omega)
@@ -179,7 +241,9 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
     }
     json << "]}";
   }
-  json << "\n  ]\n}\n";
+  json << "\n  ]";
+  if (!pattern.empty()) json << ",\n  \"pattern\": " << pattern;
+  json << "\n}\n";
   const std::string temporary = path + ".partial";
   {
     std::ofstream out(temporary);
@@ -195,7 +259,9 @@ int main(int argc, char** argv) {
   dev_params params;
   dev_default_params(&params);
   std::vector<std::string> files;
-  std::string pin_file, report_file;
+  std::string pin_file, report_file, pattern_file;
+  dev_pattern_params pattern_params;
+  dev_default_pattern_params(&pattern_params);
   bool quiet = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -244,6 +310,34 @@ int main(int argc, char** argv) {
       params.target_smoothing = parse_integer(arg, value());
     } else if (arg == "--report") {
       report_file = value();
+    } else if (arg == "--pattern") {
+      pattern_file = value();
+    } else if (arg == "--sheet") {
+      const std::string given = value();
+      double w = 0, h = 0;
+      char extra = 0;
+      if (given == "a4") w = 210, h = 297;
+      else if (given == "a3") w = 297, h = 420;
+      else if (given == "letter") w = 215.9, h = 279.4;
+      else if (std::sscanf(given.c_str(), "%lfx%lf%c", &w, &h, &extra) != 2 || !(w > 0) || !(h > 0) ||
+               !std::isfinite(w) || !std::isfinite(h))
+        die(1, "--sheet needs WxH in mm (e.g. 210x297) or a4, a3, letter; got '" + given + "'");
+      pattern_params.sheet_width_mm = w;
+      pattern_params.sheet_height_mm = h;
+    } else if (arg == "--margin") {
+      pattern_params.margin_mm = parse_number(arg, value());
+    } else if (arg == "--scale") {
+      const std::string given = value();
+      pattern_params.scale = given == "auto" ? 0.0 : parse_number(arg, given.c_str());
+      if (given != "auto" && !(pattern_params.scale > 0)) die(1, "--scale needs a positive number or auto");
+    } else if (arg == "--unit") {
+      const int index = choice({"m", "cm", "mm", "in"});
+      const char* names[] = {"m", "cm", "mm", "in"};
+      const double mm[] = {1000.0, 10.0, 1.0, 25.4};
+      std::snprintf(pattern_params.unit_name, sizeof pattern_params.unit_name, "%s", names[index]);
+      pattern_params.unit_mm = mm[index];
+    } else if (arg == "--seam-tolerance") {
+      pattern_params.seam_tolerance = parse_number(arg, value());
     } else if (arg == "--quiet" || arg == "-q") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -276,9 +370,27 @@ int main(int argc, char** argv) {
   dev_result_stats(result, &stats);
   std::vector<double> positions(mesh.positions.size());
   dev_result_positions(result, positions.data(), static_cast<int64_t>(positions.size()));
-  if (!report_file.empty()) write_report(report_file, result, stats, params);
-  dev_result_free(result);
   if (!developable_tool::write_mesh(files[1], positions, mesh.triangles, error)) die(1, error);
+  std::string pattern_report;
+  dev_pattern_stats pattern_stats{};
+  if (!pattern_file.empty()) {
+    std::vector<int32_t> patches(static_cast<size_t>(stats.faces));
+    dev_result_patch_ids(result, patches.data(), stats.faces);
+    pattern_params.svg_path = pattern_file.c_str();
+    dev_pattern* pattern = nullptr;
+    const int32_t unfolded = dev_unfold(positions.data(), mesh.vertex_count(), mesh.triangles.data(),
+                                        mesh.triangle_count(), patches.data(), &pattern_params, &pattern,
+                                        message, sizeof message);
+    if (unfolded != DEV_STATUS_OK) {
+      dev_result_free(result);
+      die(2, "pattern: " + std::string(message));
+    }
+    dev_pattern_stats_get(pattern, &pattern_stats);
+    pattern_report = pattern_json(pattern, pattern_params);
+    dev_pattern_free(pattern);
+  }
+  if (!report_file.empty()) write_report(report_file, result, stats, params, pattern_report);
+  dev_result_free(result);
 
   if (!quiet) {
     std::fprintf(stderr,
@@ -297,6 +409,14 @@ int main(int argc, char** argv) {
                  100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after,
                  static_cast<long long>(stats.faces_turned_over),
                  stats.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved");
+    if (!pattern_file.empty())
+      std::fprintf(stderr,
+                   "pattern: %lld pieces on %lld sheets at scale %g, %lld seams, %lld cut edges, "
+                   "%lld splits; strain max %.3g %% mean %.3g %%; %.1f ms\n",
+                   static_cast<long long>(pattern_stats.pieces), static_cast<long long>(pattern_stats.sheets),
+                   pattern_stats.scale, static_cast<long long>(pattern_stats.seams),
+                   static_cast<long long>(pattern_stats.cut_edges), static_cast<long long>(pattern_stats.splits),
+                   100 * pattern_stats.max_strain, 100 * pattern_stats.mean_strain, pattern_stats.time_total_ms);
   }
   // Even with --quiet: the user must know when the output is the input, or a figure got worse.
   if (stats.result == DEV_RESULT_UNCHANGED || stats.result_message[0] != '\0')

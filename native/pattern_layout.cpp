@@ -1,0 +1,300 @@
+#include "pattern_layout.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <limits>
+#include <cmath>
+#include <sstream>
+
+namespace developable {
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Andrew's monotone chain; counter-clockwise, no repeated end point.
+std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
+  std::sort(points.begin(), points.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
+  });
+  if (points.size() < 3) return points;
+  std::vector<Vec2> hull(2 * points.size());
+  size_t k = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && cross2(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = points.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross2(hull[k - 1] - hull[k - 2], points[i - 1] - hull[k - 2]) <= 0) --k;
+    hull[k++] = points[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+// The turn (radians) that brings the hull's smallest-area bounding rectangle
+// upright, tried along every hull edge (at most 720 of them).
+double upright_angle(const std::vector<Vec2>& hull) {
+  if (hull.size() < 3) return 0.0;
+  const size_t step = std::max<size_t>(1, hull.size() / 720);
+  double best_area = std::numeric_limits<double>::infinity(), best = 0.0;
+  for (size_t i = 0; i < hull.size(); i += step) {
+    const Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
+    if (e.norm() == 0.0) continue;
+    const double angle = -std::atan2(e.y(), e.x());
+    const Eigen::Rotation2Dd turn(angle);
+    Eigen::AlignedBox2d box;
+    for (const Vec2& p : hull) box.extend(turn * p);
+    const double area = box.volume();
+    if (area < best_area) best_area = area, best = angle;
+  }
+  return best;
+}
+
+std::string format_scale(double scale) {
+  std::ostringstream out;
+  if (scale >= 1.0)
+    out << scale << ":1";
+  else
+    out << "1:" << 1.0 / scale;
+  return out.str();
+}
+
+}  // namespace
+
+std::string piece_label(int index) {
+  std::string text;
+  for (int i = index + 1; i > 0; i = (i - 1) / 26) text.insert(text.begin(), static_cast<char>('A' + (i - 1) % 26));
+  return text;
+}
+
+Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
+                      const LayoutOptions& options) {
+  const auto finite_positive = [](double x) { return std::isfinite(x) && x > 0.0; };
+  if (!finite_positive(options.sheet_width) || !finite_positive(options.sheet_height))
+    throw EngineError(Status::invalid_argument, "the sheet width and height must be positive (mm)");
+  if (!finite_positive(options.unit_mm))
+    throw EngineError(Status::invalid_argument, "the model unit's length in mm must be positive");
+  if (!std::isfinite(options.scale) || options.scale < 0.0)
+    throw EngineError(Status::invalid_argument, "the scale must be positive, or 0 for automatic");
+  if (!std::isfinite(options.margin) || options.margin < 0.0 || !std::isfinite(options.spacing) ||
+      options.spacing < 0.0 || !std::isfinite(options.footer) || options.footer < 0.0)
+    throw EngineError(Status::invalid_argument, "margin, spacing and footer must not be negative");
+  const double usable_w = options.sheet_width - 2.0 * options.margin;
+  const double usable_h = options.sheet_height - 2.0 * options.margin - options.footer;
+  if (usable_w <= 0.0 || usable_h <= 0.0)
+    throw EngineError(Status::invalid_argument, "the margins leave no room on the sheet");
+
+  const size_t n_pieces = unfolded.pieces.size();
+  // Each piece upright in model units: turn, then its bounding box.
+  std::vector<double> turn(n_pieces);
+  std::vector<Eigen::AlignedBox2d> box(n_pieces);
+  for (size_t p = 0; p < n_pieces; ++p) {
+    std::vector<Vec2> points;
+    for (const auto& loop : unfolded.pieces[p].outline)
+      for (Eigen::Index row : loop) points.push_back(unfolded.corners.row(row).transpose());
+    turn[p] = upright_angle(convex_hull(points));
+    const Eigen::Rotation2Dd r(turn[p]);
+    for (const Vec2& q : points) box[p].extend(r * q);
+    if (box[p].sizes().x() < box[p].sizes().y()) {  // lying: shelves fill better
+      turn[p] += M_PI / 2;
+      box[p].setEmpty();
+      const Eigen::Rotation2Dd r2(turn[p]);
+      for (const Vec2& q : points) box[p].extend(r2 * q);
+    }
+  }
+  // Standing (turned a quarter more) when only that fits: needs_stand[p].
+  const auto fits = [&](double mm_per_unit, std::vector<char>* stand) {
+    for (size_t p = 0; p < n_pieces; ++p) {
+      const double w = box[p].sizes().x() * mm_per_unit, h = box[p].sizes().y() * mm_per_unit;
+      const bool lying = w <= usable_w && h <= usable_h;
+      const bool standing = h <= usable_w && w <= usable_h;
+      if (!lying && !standing) return static_cast<int>(p);
+      if (stand) (*stand)[p] = !lying;
+    }
+    return -1;
+  };
+  Layout layout;
+  layout.options = options;
+  double scale = options.scale;
+  if (scale == 0.0) {
+    for (double decade = 1.0; decade < 1e10 && scale == 0.0; decade *= 10.0)
+      for (double step : {1.0, 2.0, 5.0})
+        if (fits(options.unit_mm / (decade * step), nullptr) < 0) {
+          scale = 1.0 / (decade * step);
+          break;
+        }
+    if (scale == 0.0) throw EngineError(Status::invalid_argument, "no scale down to 1:10^9 fits the pieces on the sheet");
+  }
+  layout.options.scale = scale;
+  const double mm_per_unit = scale * options.unit_mm;
+  std::vector<char> stand(n_pieces, 0);
+  const int too_big = fits(mm_per_unit, &stand);
+  if (too_big >= 0) {
+    const Eigen::Vector2d size = box[too_big].sizes() * mm_per_unit;
+    double fitting = 0.0;  // the largest 1-2-5 scale that would fit this piece
+    const double ratio = std::min(std::max(usable_w, usable_h) / size.x(), std::min(usable_w, usable_h) / size.y());
+    for (double decade = 1.0; decade < 1e10 && fitting == 0.0; decade *= 10.0)
+      for (double step : {1.0, 2.0, 5.0})
+        if (1.0 / (decade * step) <= ratio) {
+          fitting = scale / (decade * step);
+          break;
+        }
+    std::ostringstream message;
+    message.precision(4);
+    message << "piece " << piece_label(too_big) << " is " << size.x() << " x " << size.y() << " mm at "
+            << format_scale(scale) << " and does not fit the printable " << usable_w << " x " << usable_h
+            << " mm of the " << options.sheet_width << " x " << options.sheet_height
+            << " mm sheet: use a larger sheet or a scale of " << format_scale(fitting) << " (" << fitting
+            << ") or smaller";
+    throw EngineError(Status::invalid_argument, message.str());
+  }
+
+  // First-fit decreasing height on shelves across sheets.
+  struct Shelf {
+    int sheet;
+    double top, height, used;
+  };
+  std::vector<Shelf> shelves;
+  std::vector<double> sheet_filled;  // height used on each sheet
+  std::vector<size_t> order(n_pieces);
+  for (size_t p = 0; p < n_pieces; ++p) order[p] = p;
+  const auto placed_size = [&](size_t p) {
+    const Vec2 s = box[p].sizes() * mm_per_unit;
+    return stand[p] ? Vec2(s.y(), s.x()) : s;
+  };
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return placed_size(a).y() > placed_size(b).y(); });
+  layout.pieces.resize(n_pieces);
+  std::vector<Vec2> origin(n_pieces);  // top left corner of the piece's box on its sheet
+  for (size_t p : order) {
+    const Vec2 size = placed_size(p);
+    Shelf* target = nullptr;
+    for (Shelf& shelf : shelves)
+      if (size.y() <= shelf.height + 1e-9 && shelf.used + size.x() <= usable_w + 1e-9) {
+        target = &shelf;
+        break;
+      }
+    if (target == nullptr) {
+      int sheet = -1;
+      for (size_t s = 0; s < sheet_filled.size(); ++s)
+        if (sheet_filled[s] + size.y() <= usable_h + 1e-9) {
+          sheet = static_cast<int>(s);
+          break;
+        }
+      if (sheet < 0) {
+        sheet = static_cast<int>(sheet_filled.size());
+        sheet_filled.push_back(0.0);
+      }
+      shelves.push_back({sheet, sheet_filled[sheet], size.y(), 0.0});
+      sheet_filled[sheet] += size.y() + options.spacing;
+      target = &shelves.back();
+    }
+    origin[p] = Vec2(options.margin + target->used, options.margin + target->top);
+    target->used += size.x() + options.spacing;
+    layout.pieces[p].sheet = target->sheet;
+    layout.pieces[p].size = size;
+  }
+  layout.sheets = static_cast<int>(sheet_filled.size());
+
+  // Corners on the sheets: turned, scaled, y flipped so that the sheet shows
+  // the side the normals point to (no mirror), moved into the box.
+  layout.corners.setZero(unfolded.corners.rows(), 2);
+  const Eigen::Index nf = triangles.rows();
+  std::vector<std::vector<int>> faces_of(n_pieces);
+  for (Eigen::Index f = 0; f < nf; ++f) faces_of[unfolded.piece_of_face[f]].push_back(static_cast<int>(f));
+  for (size_t p = 0; p < n_pieces; ++p) {
+    const double angle = turn[p] + (stand[p] ? M_PI / 2 : 0.0);
+    const Eigen::Rotation2Dd r(angle);
+    Eigen::AlignedBox2d turned;
+    for (int f : faces_of[p])
+      for (int k = 0; k < 3; ++k) turned.extend(r * unfolded.corners.row(3 * f + k).transpose());
+    for (int f : faces_of[p])
+      for (int k = 0; k < 3; ++k) {
+        const Vec2 q = r * unfolded.corners.row(3 * f + k).transpose();
+        layout.corners.row(3 * f + k) << origin[p].x() + (q.x() - turned.min().x()) * mm_per_unit,
+            origin[p].y() + (turned.max().y() - q.y()) * mm_per_unit;
+      }
+    // The label: at the area centroid if that lies on the piece, else at the
+    // centroid of its largest triangle.
+    Vec2 centroid = Vec2::Zero();
+    double area_sum = 0.0, largest = -1.0;
+    Vec2 largest_centre = Vec2::Zero();
+    const auto corner = [&](int f, int k) -> Vec2 { return layout.corners.row(3 * f + k).transpose(); };
+    for (int f : faces_of[p]) {
+      const double a = std::abs(cross2(corner(f, 1) - corner(f, 0), corner(f, 2) - corner(f, 0))) / 2;
+      const Vec2 c = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
+      centroid += a * c;
+      area_sum += a;
+      if (a > largest) largest = a, largest_centre = c;
+    }
+    centroid /= std::max(area_sum, 1e-300);
+    bool inside = false;
+    for (int f : faces_of[p]) {
+      const double d0 = cross2(corner(f, 1) - corner(f, 0), centroid - corner(f, 0));
+      const double d1 = cross2(corner(f, 2) - corner(f, 1), centroid - corner(f, 1));
+      const double d2 = cross2(corner(f, 0) - corner(f, 2), centroid - corner(f, 2));
+      if ((d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0)) {
+        inside = true;
+        break;
+      }
+    }
+    SheetLabel& label = layout.pieces[p].label;
+    label.text = piece_label(static_cast<int>(p));
+    label.sheet = layout.pieces[p].sheet;
+    label.at = inside ? centroid : largest_centre;
+    label.size = std::clamp(0.12 * std::sqrt(area_sum), 1.5, 10.0);
+  }
+
+  // Match marks: the same label on both sides of every seam, at its middle.
+  for (size_t s = 0; s < unfolded.seams.size(); ++s) {
+    const UnfoldSeam& seam = unfolded.seams[s];
+    layout.seam_labels.push_back(std::to_string(s + 1));
+    for (int side = 0; side < 2; ++side) {
+      const auto corner_at = [&](int f, int v) -> Vec2 {
+        for (int k = 0; k < 3; ++k)
+          if (triangles(f, k) == v) return layout.corners.row(3 * f + k).transpose();
+        return Vec2::Zero();
+      };
+      double length = 0.0;
+      for (size_t i = 0; i < seam.edges.size(); ++i)
+        length += (corner_at(seam.faces[i][side], seam.edges[i][1]) - corner_at(seam.faces[i][side], seam.edges[i][0])).norm();
+      double walked = 0.0;
+      for (size_t i = 0; i < seam.edges.size(); ++i) {
+        const int f = seam.faces[i][side];
+        const Vec2 a = corner_at(f, seam.edges[i][0]), b = corner_at(f, seam.edges[i][1]);
+        const double l = (b - a).norm();
+        if (walked + l < length / 2 && i + 1 < seam.edges.size()) {
+          walked += l;
+          continue;
+        }
+        const Vec2 middle = a + (b - a) * std::clamp(l > 0 ? (length / 2 - walked) / l : 0.5, 0.0, 1.0);
+        const Vec2 tangent = l > 0 ? Vec2((b - a) / l) : Vec2(1, 0);
+        Vec2 inward(-tangent.y(), tangent.x());
+        const Vec2 centre = (layout.corners.row(3 * f).transpose() + layout.corners.row(3 * f + 1).transpose() +
+                             layout.corners.row(3 * f + 2).transpose()) / 3.0;
+        if (inward.dot(centre - middle) < 0) inward = -inward;
+        MatchMark mark;
+        mark.seam = static_cast<int>(s);
+        mark.side = side;
+        const double size = std::clamp(0.4 * length, 1.2, 3.0);
+        mark.notch_from = middle;
+        mark.notch_to = middle + inward * 0.6 * size;
+        mark.label.text = layout.seam_labels.back();
+        mark.label.sheet = layout.pieces[side == 0 ? seam.piece_a : seam.piece_b].sheet;
+        mark.label.at = middle + inward * 1.3 * size;
+        mark.label.size = size;
+        double degrees = std::atan2(tangent.y(), tangent.x()) * 180.0 / M_PI;
+        if (degrees > 90.0) degrees -= 180.0;
+        if (degrees < -90.0) degrees += 180.0;
+        mark.label.angle = degrees;
+        layout.marks.push_back(mark);
+        break;
+      }
+    }
+  }
+  return layout;
+}
+
+}  // namespace developable

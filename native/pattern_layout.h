@@ -1,0 +1,76 @@
+// Flat patterns, step 2 of 3 (unfold -> pattern_layout -> pattern_svg): the
+// flat pieces packed onto sheets at true scale, with labels and match marks.
+#pragma once
+
+#include "types.h"
+#include "unfold.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace developable {
+
+struct LayoutOptions {
+  double sheet_width = 210.0;   // mm; default A4 portrait
+  double sheet_height = 297.0;  // mm
+  double margin = 10.0;         // mm kept free on every side
+  double spacing = 4.0;         // mm at least between two pieces
+  double footer = 12.0;         // mm above the bottom margin for the scale bar and the title
+  // Paper length per model length (1: 1:1, 0.1: 1:10); 0 = automatic: the
+  // largest of 1, 1/2, 1/5, 1/10, 1/20, ... at which every piece fits.
+  double scale = 1.0;
+  double unit_mm = 1000.0;      // one model unit in mm: 1000 for metres
+  std::string unit_name = "m";  // the model unit's name, for the scale bar ("in" gives inch lengths)
+};
+
+// A label at a point of a sheet, text centred there, turned by `angle`.
+struct SheetLabel {
+  std::string text;
+  int sheet = 0;
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();  // mm, x right, y down from the top left corner
+  double size = 3.0;                              // text height, mm
+  double angle = 0.0;                             // degrees, clockwise on the sheet
+};
+
+struct PlacedPiece {
+  int sheet = 0;
+  Eigen::Vector2d size = Eigen::Vector2d::Zero();  // its upright bounding box on the sheet, mm
+  SheetLabel label;                                // "A", "B", ... at a point inside the piece
+};
+
+// One side of a seam: a notch across the cut line at the seam's middle and
+// the seam's label beside it, inside the piece.
+struct MatchMark {
+  int seam = 0;
+  int side = 0;  // 0: piece_a, 1: piece_b of the seam
+  Eigen::Vector2d notch_from = Eigen::Vector2d::Zero(), notch_to = Eigen::Vector2d::Zero();
+  SheetLabel label;
+};
+
+struct Layout {
+  LayoutOptions options;           // as used (scale resolved when automatic)
+  int sheets = 0;
+  FlatCorners corners;             // per face corner (3 f + k), mm on its piece's sheet
+  std::vector<PlacedPiece> pieces;
+  std::vector<std::string> seam_labels;  // per seam: "1", "2", ...; both sides carry it
+  std::vector<MatchMark> marks;          // two per seam
+};
+
+// Packs the pieces of `unfolded` (from unfold() on this mesh's `triangles`).
+// Each piece is turned to its smallest bounding rectangle (lying, or standing
+// when only that fits), mirrored never (the sheet shows the side the face
+// normals point to), then placed by first-fit decreasing height on shelves,
+// so that the bounding boxes, hence the pieces, are at least `spacing` apart
+// and inside the margins. Throws EngineError(invalid_argument) for a
+// non-positive or non-finite size, a margin that leaves no room, or a piece
+// that does not fit the printable area at the given scale (the message names
+// the piece, its size and the scale that would fit).
+Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
+                      const LayoutOptions& options = {});
+
+// "A" .. "Z", "AA", "AB", ... for piece index 0, 1, ...
+std::string piece_label(int index);
+
+}  // namespace developable

@@ -1,0 +1,284 @@
+"""Flat patterns through the C ABI (dev_unfold, bound by addon/native.py):
+exact developables unfold isometrically, strain is reported honestly, the
+layout keeps pieces apart, the seams match, the SVG is at true scale."""
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+import meshgen
+from pattern_support import (edge_strain, face_areas, load_native, overlapping_triangles, read_png,
+                             signed_areas)
+
+SEAM_COLOUR = "#c0392b"
+
+
+@pytest.fixture(scope="module")
+def native(library_path):
+    return load_native(library_path)
+
+
+def exact_shapes():
+    shapes = {
+        "plane": meshgen.plane(),
+        "cylinder band": meshgen.cylinder(),
+        "open cylinder": meshgen.cylinder(angle=2.5),
+        "cone band": meshgen.cone(),
+    }
+    for seed in (11, 12, 13):
+        shapes["curved fold %d" % seed] = meshgen.curved_fold(seed)
+    return shapes
+
+
+def dihedral_range_degrees(positions, triangles):
+    """Largest bend between two faces sharing an edge, degrees (0 = flat)."""
+    n = np.cross(positions[triangles[:, 1]] - positions[triangles[:, 0]],
+                 positions[triangles[:, 2]] - positions[triangles[:, 0]])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    faces_of = {}
+    for f, t in enumerate(triangles):
+        for k in range(3):
+            faces_of.setdefault(tuple(sorted((t[k], t[(k + 1) % 3]))), []).append(f)
+    pairs = np.array([v for v in faces_of.values() if len(v) == 2])
+    cos = np.clip((n[pairs[:, 0]] * n[pairs[:, 1]]).sum(1), -1, 1)
+    return np.degrees(np.arccos(cos)).max()
+
+
+def test_curved_fold_is_folded_and_flat():
+    # The generator's promise: intrinsically flat, yet really folded.
+    for seed in (11, 12, 13):
+        pos, tri = meshgen.curved_fold(seed)
+        angle = np.zeros(len(pos))
+        for k in range(3):
+            u = pos[tri[:, (k + 1) % 3]] - pos[tri[:, k]]
+            v = pos[tri[:, (k + 2) % 3]] - pos[tri[:, k]]
+            angle += np.bincount(tri[:, k], np.arctan2(np.linalg.norm(np.cross(u, v), axis=1),
+                                                      (u * v).sum(1)), len(pos))
+        interior = np.abs(angle - 2 * np.pi) < 1.0  # boundary vertices sum to about pi or less
+        assert interior.sum() > 100
+        assert np.abs(angle[interior] - 2 * np.pi).max() < 1e-12
+        assert dihedral_range_degrees(pos, tri) > 20.0
+
+
+@pytest.mark.parametrize("name", list(exact_shapes()))
+def test_exact_developables_unfold_isometrically(native, name):
+    pos, tri = exact_shapes()[name]
+    pattern = native.unfold(pos, tri, params={"scale": 0})
+    st = pattern.stats
+    assert st["pieces"] == 1 and st["splits"] == 0
+    assert st["max_strain"] < 1e-6
+    piece = pattern.pieces[0]
+    area = face_areas(pos, tri).sum()
+    assert abs(piece["area_flat"] / area - 1) < 1e-6
+    assert abs(piece["area_3d"] / area - 1) < 1e-12
+    # Independent of the engine's own figures: edge lengths and orientation.
+    assert edge_strain(pos, tri, pattern.corner_uvs).max() < 1e-6
+    assert (signed_areas(pattern.corner_uvs) > 0).all()
+    closed = name in ("cylinder band", "cone band")
+    assert (st["cut_edges"] > 0) == closed
+    if closed:  # one cut across the band, matched on both sides
+        assert st["seams"] == 1 and pattern.seams[0]["cut"] == 1
+        seam = pattern.seams[0]
+        assert abs(seam["length_a"] - seam["length_3d"]) < 1e-9 * seam["length_3d"]
+        assert abs(seam["length_b"] - seam["length_3d"]) < 1e-9 * seam["length_3d"]
+
+
+def test_patches_become_pieces_with_a_matched_border(native):
+    pos, tri, part = meshgen.cylinder_cone()
+    pattern = native.unfold(pos, tri, part, params={"scale": 0})
+    assert sorted(p["patch"] for p in pattern.pieces) == [0, 1]
+    assert pattern.stats["max_strain"] < 1e-6
+    borders = [s for s in pattern.seams if not s["cut"]]
+    assert len(borders) == 1 and borders[0]["edges"] == 40  # the ring between cylinder and cone
+    assert abs(borders[0]["length_a"] / borders[0]["length_b"] - 1) < 1e-9
+
+
+@pytest.mark.parametrize("seed", [21, 22, 23])
+def test_noisy_developable_after_the_engine(native, seed):
+    pos, tri = meshgen.noisy_cylinder_patch(seed=seed)
+    result = native.run(pos, tri)
+    pattern = native.unfold(result.positions, tri, result.patch_ids, params={"layout": 0})
+    assert pattern.stats["mean_strain"] < 1e-3
+    assert (signed_areas(pattern.corner_uvs) > 0).all()
+
+
+def test_sphere_caps_report_growing_strain(native):
+    # Unsplit (no seam tolerance): one piece whose strain grows with the cap.
+    strains, areas = [], []
+    for angle in (15, 30, 60, 90, 120):
+        pos, tri = meshgen.sphere_cap(angle)
+        pattern = native.unfold(pos, tri, params={"layout": 0, "seam_tolerance": 0})
+        assert pattern.stats["pieces"] == 1
+        assert (signed_areas(pattern.corner_uvs) > 0).all()
+        strains.append(pattern.stats["max_strain"])
+        areas.append(abs(pattern.pieces[0]["area_change"]))
+        # The figure is the truth about the flat map.
+        assert np.isclose(edge_strain(pos, tri, pattern.corner_uvs).max(), strains[-1], rtol=1e-9)
+    assert all(b > a for a, b in zip(strains, strains[1:])), strains
+    assert all(b > a for a, b in zip(areas, areas[1:])), areas
+    assert strains[0] > 1e-3 and strains[-1] > 0.3
+    # With the default seam tolerance the cap is split instead, more for larger caps.
+    counts = [native.unfold(*meshgen.sphere_cap(a), params={"layout": 0}).stats["pieces"]
+              for a in (15, 60, 120)]
+    assert counts[0] < counts[1] < counts[2]
+
+
+def piece_bboxes(pattern):
+    boxes = []
+    for p in range(len(pattern.pieces)):
+        c = pattern.sheet_uvs[pattern.piece_ids == p].reshape(-1, 2)
+        boxes.append((pattern.pieces[p]["sheet"], c.min(0), c.max(0)))
+    return boxes
+
+
+def seam_labels_in_svgs(files):
+    labels = []
+    for path in files:
+        for text in ET.parse(path).getroot().iter("{http://www.w3.org/2000/svg}text"):
+            if text.get("fill") == SEAM_COLOUR:
+                labels.append(text.text)
+    return labels
+
+
+@pytest.fixture(scope="module")
+def woman_pattern(native, meshes_dir, tmp_path_factory):
+    pos, tri = meshgen.read_obj(meshes_dir / "human_woman.obj")
+    result = native.run(pos, tri)  # the engine with its defaults
+    out = tmp_path_factory.mktemp("woman") / "woman.svg"
+    pattern = native.unfold(result.positions, tri, result.patch_ids, params={"scale": 0},
+                            svg_path=str(out))
+    return result.positions, tri, pattern
+
+
+def test_human_woman_pieces_lie_flat(woman_pattern):
+    pos, tri, pattern = woman_pattern
+    assert len(pattern.pieces) > 1
+    assert (signed_areas(pattern.corner_uvs) > 0).all()
+    assert (signed_areas(pattern.sheet_uvs) < 0).all()  # y down on the sheet: same turn, not mirrored
+    for p in range(len(pattern.pieces)):
+        faces = np.flatnonzero(pattern.piece_ids == p)
+        assert overlapping_triangles(pattern.corner_uvs, faces) == [], "piece %d overlaps itself" % p
+    strain = edge_strain(pos, tri, pattern.corner_uvs)
+    assert np.isclose(strain.max(), pattern.stats["max_strain"], rtol=1e-9)
+
+
+def test_human_woman_layout_keeps_pieces_apart(woman_pattern):
+    _, _, pattern = woman_pattern
+    margin, width, height = 10.0, 210.0, 297.0
+    boxes = piece_bboxes(pattern)
+    for sheet, lo, hi in boxes:
+        assert lo.min() >= margin - 1e-9 and hi[0] <= width - margin + 1e-9 and hi[1] <= height - margin
+    # Boxes on one sheet apart, hence the polygons inside them too.
+    for i in range(len(boxes)):
+        for j in range(i + 1, len(boxes)):
+            if boxes[i][0] != boxes[j][0]:
+                continue
+            apart = (boxes[i][2] < boxes[j][1]).any() or (boxes[j][2] < boxes[i][1]).any()
+            assert apart, "pieces %d and %d overlap on sheet %d" % (i, j, boxes[i][0])
+    # The piece sizes are the true sizes at the scale used.
+    scale_mm = pattern.stats["scale"] * 1000.0
+    piece = max(range(len(pattern.pieces)), key=lambda p: pattern.pieces[p]["area_3d"])
+    flat = pattern.corner_uvs[pattern.piece_ids == piece].reshape(-1, 2)
+    sheet = pattern.sheet_uvs[pattern.piece_ids == piece].reshape(-1, 2)
+    d_flat = np.linalg.norm(flat[:, None] - flat[None], axis=2).max()
+    d_sheet = np.linalg.norm(sheet[:, None] - sheet[None], axis=2).max()
+    assert abs(d_sheet / (d_flat * scale_mm) - 1) < 1e-9
+
+
+def test_human_woman_seams_match(woman_pattern):
+    pos, tri, pattern = woman_pattern
+    assert pattern.seams
+    for seam in pattern.seams:
+        assert abs(seam["length_a"] - seam["length_b"]) <= 0.005 * seam["length_3d"], seam
+        edges = seam["vertices"]
+        assert np.isclose(np.linalg.norm(pos[edges[:, 0]] - pos[edges[:, 1]], axis=1).sum(),
+                          seam["length_3d"])
+    # Both sides of every seam carry its label on the sheets.
+    labels = seam_labels_in_svgs(pattern.files)
+    counts = {}
+    for text in labels:
+        counts[text] = counts.get(text, 0) + 1
+    assert counts == {s["label"]: 2 for s in pattern.seams}
+
+
+def test_seams_follow_pieces(native):
+    # Two pieces of one cut band and two patches: each seam's sides are where it says.
+    pos, tri, part = meshgen.cylinder_cone()
+    pattern = native.unfold(pos, tri, part, params={"layout": 0})
+    piece = pattern.piece_ids
+    for seam in pattern.seams:
+        for a, b in seam["vertices"]:
+            left = [f for f in range(len(tri)) if any(tri[f][k] == a and tri[f][(k + 1) % 3] == b
+                                                      for k in range(3))]
+            right = [f for f in range(len(tri)) if any(tri[f][k] == b and tri[f][(k + 1) % 3] == a
+                                                       for k in range(3))]
+            assert piece[left[0]] == seam["piece_a"] and piece[right[0]] == seam["piece_b"]
+
+
+RSVG = shutil.which("rsvg-convert")
+
+
+def rasterise(svg, png, dpi):
+    subprocess.run([RSVG, "-d", str(dpi), "-p", str(dpi), "-o", str(png), str(svg)], check=True)
+    return read_png(png)
+
+
+@pytest.mark.skipif(RSVG is None, reason="rsvg-convert (librsvg2-bin) is not installed")
+def test_scale_is_true_on_the_rasterised_sheet(native, tmp_path):
+    # A 10 cm x 5 cm plane in metres, 1:1 on A4, rasterised at 254 dpi (10 px per mm).
+    pos, tri = meshgen.plane(rows=6, cols=11, size=0.1)
+    pos[:, 1] *= 0.05 / pos[:, 1].max()
+    svg = tmp_path / "plane.svg"
+    pattern = native.unfold(pos, tri, params={"scale": 1.0, "unit_name": "m"}, svg_path=str(svg))
+    assert pattern.files == [str(svg)]
+    root = ET.parse(svg).getroot()
+    assert root.get("width") == "210mm" and root.get("height") == "297mm"
+    image = rasterise(svg, tmp_path / "plane.png", 254)
+    assert image.shape[:2] == (2970, 2100)
+    rgb = image[..., :3].astype(int)
+    fill = (np.abs(rgb - [0xdb, 0xe8, 0xf6]).sum(axis=2) < 12)  # the piece's fill colour
+    ys, xs = np.nonzero(fill)
+    width_px = xs.max() - xs.min() + 1
+    height_px = ys.max() - ys.min() + 1
+    # The 0.2 mm outline is drawn on the edge: the fill inside it is 0.1 mm short on each side.
+    assert abs(width_px - 1000) <= 4 and abs(height_px - 500) <= 4, (width_px, height_px)
+    # The same piece in centimetres (the model unit as an option) at 1:2.
+    svg_cm = tmp_path / "plane_cm.svg"
+    native.unfold(pos * 100, tri, params={"scale": 0.5, "unit_name": "cm"}, svg_path=str(svg_cm))
+    rgb = rasterise(svg_cm, tmp_path / "plane_cm.png", 254)[..., :3].astype(int)
+    ys, xs = np.nonzero(np.abs(rgb - [0xdb, 0xe8, 0xf6]).sum(axis=2) < 12)
+    assert abs(xs.max() - xs.min() + 1 - 500) <= 4 and abs(ys.max() - ys.min() + 1 - 250) <= 4
+
+
+@pytest.mark.skipif(RSVG is None, reason="rsvg-convert (librsvg2-bin) is not installed")
+def test_rasterised_sheets_are_not_blank(woman_pattern, tmp_path):
+    _, _, pattern = woman_pattern
+    assert len(pattern.files) == pattern.stats["sheets"] >= 1
+    for i, svg in enumerate(pattern.files):
+        image = rasterise(svg, tmp_path / ("sheet%d.png" % i), 50)
+        # rsvg-convert rounds the pixel size up.
+        assert image.shape[:2] == (int(np.ceil(297 / 25.4 * 50)), int(np.ceil(210 / 25.4 * 50)))
+        ink = (image[..., :3].astype(int).sum(axis=2) < 3 * 250).mean()
+        assert ink > 0.01, "sheet %s is blank" % svg
+
+
+def test_bad_input_gets_a_status(native, tmp_path):
+    pos, tri = meshgen.plane()
+    with pytest.raises(native.EngineError) as err:
+        native.unfold(pos, tri, np.full(len(tri), -1))
+    assert err.value.status_name == "INVALID_ARGUMENT" and "negative" in err.value.message
+    with pytest.raises(native.EngineError) as err:
+        native.unfold(pos, np.vstack([tri, tri[:1]]))
+    assert err.value.status_name == "DUPLICATE_TRIANGLE"
+    with pytest.raises(native.EngineError) as err:  # a 2 m x 1.6 m plane at 1:1 on A4
+        native.unfold(pos, tri)
+    assert err.value.status_name == "INVALID_ARGUMENT" and "1:10" in err.value.message
+    for bad in ({"sheet_width_mm": 0}, {"scale": -1}, {"margin_mm": 200}, {"seam_tolerance": -1}):
+        with pytest.raises(native.EngineError) as err:
+            native.unfold(pos, tri, params=dict(bad, scale=bad.get("scale", 0)))
+        assert err.value.status_name == "INVALID_ARGUMENT"
+    with pytest.raises(native.EngineError) as err:
+        native.unfold(pos, tri, params={"scale": 0}, svg_path=str(tmp_path / "missing" / "x.svg"))
+    assert err.value.status_name == "INVALID_ARGUMENT" and "cannot write" in err.value.message

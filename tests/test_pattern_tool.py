@@ -1,0 +1,64 @@
+"""The tool's pattern options: --pattern, --sheet, --scale, --unit and the
+pattern part of --report."""
+import json
+import subprocess
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+import meshgen
+
+
+def run_tool(tool_path, *args):
+    return subprocess.run([str(tool_path)] + [str(a) for a in args], capture_output=True, text=True)
+
+
+def test_tool_writes_the_pattern_and_reports_it(tool_path, tmp_path):
+    pos, tri = meshgen.cone()
+    mesh = tmp_path / "cone.obj"
+    meshgen.write_obj(mesh, pos * 10, tri)  # 10 x the unit band, in cm: about 30 cm across
+    report = tmp_path / "report.json"
+    proc = run_tool(tool_path, mesh, tmp_path / "out.obj", "--quiet", "--pattern", tmp_path / "p.svg",
+                    "--sheet", "a3", "--unit", "cm", "--scale", "auto", "--report", report)
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads(report.read_text())["pattern"]
+    assert data["parameters"]["unit"] == "cm" and data["parameters"]["unit_mm"] == 10
+    assert data["parameters"]["sheet_width_mm"] == 297 and data["parameters"]["sheet_height_mm"] == 420
+    st = data["stats"]
+    assert st["pieces"] == len(data["pieces"]) >= 1 and st["seams"] == len(data["seams"])
+    assert 0 < st["scale"] <= 1
+    for path in data["files"]:
+        root = ET.parse(path).getroot()
+        assert root.get("width") == "297mm" and root.get("height") == "420mm"
+    # Sizes on the sheet follow the scale: outline in cm, sheet in mm.
+    piece = max(data["pieces"], key=lambda p: p["area_3d"])
+    assert piece["width_mm"] <= 297 - 20 and piece["height_mm"] <= 420 - 32
+    area_mm2 = piece["area_flat"] * 100 * st["scale"] ** 2
+    assert area_mm2 <= piece["width_mm"] * piece["height_mm"] * (1 + 1e-9)
+
+
+def test_tool_pattern_options_are_checked(tool_path, tmp_path):
+    pos, tri = meshgen.plane()
+    mesh = tmp_path / "plane.obj"
+    meshgen.write_obj(mesh, pos, tri)
+    for bad in (["--sheet", "big"], ["--sheet", "0x10"], ["--scale", "-2"], ["--unit", "ft"]):
+        proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--pattern", tmp_path / "p.svg", *bad)
+        assert proc.returncode == 1 and "error" in proc.stderr
+    # A 2 m plane at 1:1 does not fit A4: the engine says which scale would.
+    proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg")
+    assert proc.returncode == 2 and "1:10" in proc.stderr
+
+
+def test_tool_letter_sheet_in_inches(tool_path, tmp_path):
+    pos, tri = meshgen.plane(rows=5, cols=6, size=4.0)  # 4 in x 3.2 in
+    mesh = tmp_path / "plane.obj"
+    meshgen.write_obj(mesh, pos, tri)
+    report = tmp_path / "r.json"
+    proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
+                    "--sheet", "letter", "--unit", "in", "--report", report)
+    assert proc.returncode == 0, proc.stderr
+    piece = json.loads(report.read_text())["pattern"]["pieces"][0]
+    # The engine leaves an already developable plane unchanged: 4 x 3.2 in = 101.6 x 81.28 mm.
+    assert np.allclose(sorted([piece["width_mm"], piece["height_mm"]]), [81.28, 101.6], atol=1e-6)
+    svg = (tmp_path / "p.svg").read_text()
+    assert 'width="215.9mm"' in svg and " in</text>" in svg

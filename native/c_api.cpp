@@ -1,8 +1,10 @@
-// The C ABI (developable.h): converts buffers and parameters, calls the
-// pipeline, and catches everything. No logic of its own.
+// The C ABI (developable.h): checks the caller's buffers and counts,
+// converts them and the parameters, calls the pipeline, and catches
+// everything. The checks of the mesh and the options, the memory budget and
+// the diagnosis of polygon soups live in the pipeline (check_input,
+// run_pipeline), where C++ callers get them too.
 #include "developable.h"
 
-#include "memory_budget.h"
 #include "mesh_input.h"
 #include "pattern_layout.h"
 #include "pattern_svg.h"
@@ -35,6 +37,39 @@ namespace {
 
 using developable::EngineError;
 using developable::Status;
+
+// The C values are the C++ enums' (types.h, pipeline.h, deformation.h):
+// a status, stop reason or result crosses the boundary by a plain cast.
+template <typename Enum>
+constexpr int32_t c_value(Enum e) {
+  return static_cast<int32_t>(e);
+}
+static_assert(DEV_STATUS_OK == c_value(Status::ok));
+static_assert(DEV_STATUS_EMPTY_INPUT == c_value(Status::empty_input));
+static_assert(DEV_STATUS_INDEX_OUT_OF_RANGE == c_value(Status::index_out_of_range));
+static_assert(DEV_STATUS_NON_FINITE_COORDINATE == c_value(Status::non_finite_coordinate));
+static_assert(DEV_STATUS_DEGENERATE_TRIANGLE == c_value(Status::degenerate_triangle));
+static_assert(DEV_STATUS_DUPLICATE_TRIANGLE == c_value(Status::duplicate_triangle));
+static_assert(DEV_STATUS_NON_MANIFOLD == c_value(Status::non_manifold));
+static_assert(DEV_STATUS_INVALID_ARGUMENT == c_value(Status::invalid_argument));
+static_assert(DEV_STATUS_NO_FREE_VERTEX == c_value(Status::no_free_vertex));
+static_assert(DEV_STATUS_CANCELLED == c_value(Status::cancelled));
+static_assert(DEV_STATUS_NUMERICAL_FAILURE == c_value(Status::numerical_failure));
+static_assert(DEV_STATUS_OUT_OF_MEMORY == c_value(Status::out_of_memory));
+static_assert(DEV_STATUS_INTERNAL_ERROR == c_value(Status::internal_error));
+static_assert(DEV_STATUS_NO_INTERIOR_VERTEX == c_value(Status::no_interior_vertex));
+static_assert(DEV_STOP_ALREADY_DEVELOPABLE == c_value(developable::StopReason::already_developable));
+static_assert(DEV_STOP_CONVERGED == c_value(developable::StopReason::converged));
+static_assert(DEV_STOP_ITERATION_LIMIT == c_value(developable::StopReason::iteration_limit));
+static_assert(DEV_STOP_STALLED == c_value(developable::StopReason::stalled));
+static_assert(DEV_MODE_REFIT == c_value(developable::Mode::refit));
+static_assert(DEV_MODE_PAPER == c_value(developable::Mode::paper));
+static_assert(DEV_SEAMS_FREE == c_value(developable::Seams::free));
+static_assert(DEV_SEAMS_PINNED == c_value(developable::Seams::pinned));
+static_assert(DEV_SOLVER_DECOUPLED == c_value(developable::Formulation::decoupled));
+static_assert(DEV_SOLVER_COUPLED == c_value(developable::Formulation::coupled));
+static_assert(DEV_RESULT_IMPROVED == c_value(developable::ResultKind::improved));
+static_assert(DEV_RESULT_UNCHANGED == c_value(developable::ResultKind::unchanged));
 
 void write_message(char* message, size_t capacity, const std::string& text) {
   if (message == nullptr || capacity == 0) return;
@@ -115,27 +150,6 @@ developable::PipelineOptions to_options(const dev_params& p) {
   return o;
 }
 
-// Vertices at exactly the same position as another vertex. A mesh whose
-// triangles each have their own three vertices (a polygon soup: STL, some
-// OBJ exports) has no interior vertex; this names the likely cause.
-int64_t coincident_vertices(const developable::Positions& positions) {
-  std::vector<Eigen::Index> order(static_cast<size_t>(positions.rows()));
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
-  auto less = [&](Eigen::Index a, Eigen::Index b) {
-    for (int c = 0; c < 3; ++c)
-      if (positions(a, c) != positions(b, c)) return positions(a, c) < positions(b, c);
-    return false;
-  };
-  std::sort(order.begin(), order.end(), less);
-  int64_t count = 0;
-  for (size_t i = 0; i < order.size(); ++i) {
-    const bool same_as_previous = i > 0 && !less(order[i - 1], order[i]);
-    const bool same_as_next = i + 1 < order.size() && !less(order[i], order[i + 1]);
-    count += same_as_previous || same_as_next;
-  }
-  return count;
-}
-
 bool call_progress(double fraction, const char* stage, void* user) {
   auto* callback = static_cast<std::pair<dev_progress_fn, void*>*>(user);
   return callback->first(fraction, stage, callback->second) != 0;
@@ -209,29 +223,14 @@ int32_t dev_run(const double* positions, int64_t n_vertices, const int32_t* tria
     dev_params defaults;
     dev_default_params(&defaults);
     const developable::PipelineOptions options = to_options(params != nullptr ? *params : defaults);
-    // Options first (a wild grid_resolution is invalid_argument, not
-    // out_of_memory), then the memory budget, before anything is copied or
-    // allocated (docs/hardening.md, "Memory budget").
-    developable::check_options(options);
-    developable::check_memory_budget(n_vertices, n_triangles, options);
     std::vector<bool> pin_mask;
     if (pinned != nullptr) pin_mask.assign(pinned, pinned + n_vertices);
     std::pair<dev_progress_fn, void*> callback{progress, user};
     const developable::Progress report{progress != nullptr ? call_progress : nullptr, &callback};
     auto owned = std::make_unique<dev_result>();
-    const developable::Positions input = copy_positions(positions, n_vertices);
-    try {
-      owned->pipeline = developable::run_pipeline(input, copy_triangles(triangles, n_triangles),
-                                                  pin_mask, options, report);
-    } catch (const EngineError& e) {
-      if (e.status() != Status::no_interior_vertex) throw;
-      const int64_t shared = coincident_vertices(input);
-      if (shared == 0) throw;
-      throw EngineError(e.status(), std::string(e.what()) + "; " + std::to_string(shared) + " of " +
-                                        std::to_string(n_vertices) +
-                                        " vertices share a position with another vertex (a polygon "
-                                        "soup?): weld them first (Blender: Merge by Distance)");
-    }
+    owned->pipeline = developable::run_pipeline(copy_positions(positions, n_vertices),
+                                                copy_triangles(triangles, n_triangles), pin_mask, options,
+                                                report);
     *result = owned.release();
   });
 }

@@ -12,7 +12,8 @@
 // of its moving-least-squares weight (Eq. 5; see mls_row_weights). Pinned
 // vertices are not unknowns: they keep their input coordinates bit for bit.
 //
-// Two formulations of the same least-squares problem:
+// Two formulations: the paper's least-squares problem, and an approximation
+// of it that decouples x, y and z (docs/method.md measures the difference):
 //   coupled    the paper's: one 3n x 3n normal matrix W A^T A W (Eq. 7) whose
 //              values depend on the targets; the symbolic analysis is done
 //              once and a change of targets only refactors numerically;
@@ -25,6 +26,9 @@
 //              exact to O(angle^3) and free of trigonometry), and
 //              the remaining 9 rows, the same for x, y and z, form one n x n
 //              matrix that never changes: factored once, three solves a step.
+//              Not the coupled problem's minimiser: each triangle's normal
+//              rows are solved alone and the rotated edges are then fitted
+//              in the least-squares sense with the centroid rows.
 #pragma once
 
 #include "types.h"
@@ -38,7 +42,8 @@
 
 namespace developable {
 
-enum class Formulation { coupled, decoupled };
+// The values are DEV_SOLVER_* of the C ABI (developable.h; checked in c_api.cpp).
+enum class Formulation { decoupled = 0, coupled = 1 };
 
 // The sparse Cholesky factorisation of both formulations: P A P^T = L D L^T
 // with Eigen's approximate-minimum-degree ordering P (bench/solvers.py

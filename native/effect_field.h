@@ -73,12 +73,19 @@ struct EffectField {
 // The window is the points' bounding square, padded by 4 cells on each side so
 // ridges at the data's edge keep their neighbours.
 // Automatic effect radius (options.effect_radius == 0), with D the side of the
-// points' bounding square, h the cell size and g90 the 90th percentile of the
-// distance from each source to its nearest other source:
-//   R = clamp(max(0.05 D, 1.5 g90), 3 h, max(0.25 D, 3 h)).
-// 0.05 D resolves features down to ~1/10 of the image; 1.5 g90 bridges the
-// gaps of a coarse mesh (a 32-sided cylinder's Gauss image is 32 points), so
-// its ridge stays one curve; 3 h keeps the kernel resolved on the grid.
+// points' bounding square, h the cell size, g90 the 90th percentile of the
+// distance from each source to its nearest other source, and L the
+// single-linkage distance at which the sources form at most 4 pieces of
+// comparable weight:
+//   R = clamp(max(0.08 D, 1.5 g90, 2 L), 3 h, U),  U = max(0.25 D, 3 h),
+// then, up to 8 times, R = min(U, 3.3 t(R)) while that is larger, t(R) being
+// the points' scatter across their local direction in windows of half-side
+// R (the `thickness` below). 0.08 D resolves features down to ~1/6 of the
+// image; 1.5 g90 bridges the gaps of a coarse mesh (a 32-sided cylinder's
+// Gauss image is 32 points) and 2 L those between the clusters a thinned
+// curve breaks into, so each ridge stays one curve; 3.3 t makes a noisy curve
+// one ridge across (and a noisy plane one bump); 3 h keeps the kernel
+// resolved on the grid. A given or automatic R below h is raised to h.
 // Cost: O(sources * (R/h)^2), about 1 ms for a typical 128^2 field.
 // Throws EngineError(invalid_argument) on a size mismatch, no points,
 // non-finite input, negative weights or options out of range.

@@ -26,10 +26,12 @@ struct IdealCurveOptions {
   // Effect-field grid: cells per side of the square chart window; 0 picks it
   // from the number of normals (automatic_grid_resolution).
   int grid_resolution = 0;
-  // Effect-region threshold of Eq. 1, in chart units (the equal-area chart
-  // spans a disc of radius 2). 0 picks it from the point spacing.
+  // Effect-region threshold R of Eq. 1, in chart units (the equal-area chart
+  // spans a disc of radius 2). 0: automatic (compute_effect_field in
+  // effect_field.h).
   double effect_radius = 0.0;
-  // k of the density term r(p) = k * #(points in cell) / #(points).
+  // k of the density term r(p) = k * share(cell) * R, share = the cell's
+  // fraction of the total weight (effect_field.h).
   double density_scale = 1.0;
   // Polyline samples per fitted B-spline; more gives finer targets.
   int samples_per_curve = 512;

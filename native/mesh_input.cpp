@@ -193,6 +193,24 @@ void validate_mesh(const Positions& positions, const Triangles& triangles) {
   check_vertex_fans(positions.rows(), triangles);
 }
 
+Eigen::Index coincident_vertices(const Positions& positions) {
+  std::vector<Eigen::Index> order(static_cast<size_t>(positions.rows()));
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+  auto less = [&](Eigen::Index a, Eigen::Index b) {
+    for (int c = 0; c < 3; ++c)
+      if (positions(a, c) != positions(b, c)) return positions(a, c) < positions(b, c);
+    return false;
+  };
+  std::sort(order.begin(), order.end(), less);
+  Eigen::Index count = 0;
+  for (size_t i = 0; i < order.size(); ++i) {
+    const bool same_as_previous = i > 0 && !less(order[i - 1], order[i]);
+    const bool same_as_next = i + 1 < order.size() && !less(order[i], order[i + 1]);
+    count += same_as_previous || same_as_next;
+  }
+  return count;
+}
+
 std::vector<bool> boundary_vertices(const Positions& positions, const Triangles& triangles) {
   const std::vector<DirectedEdge> edges = sorted_directed_edges(triangles);
   std::vector<bool> boundary(static_cast<size_t>(positions.rows()), false);

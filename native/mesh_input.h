@@ -22,6 +22,12 @@ namespace developable {
 // Vertices that no triangle uses are allowed (they are never moved).
 void validate_mesh(const Positions& positions, const Triangles& triangles);
 
+// How many vertices sit at exactly the same position as another vertex. A
+// mesh whose triangles each have their own three vertices (a polygon soup:
+// STL, some OBJ exports) has many, and no interior vertex; the pipeline
+// names them when it refuses such a mesh. O(n log n).
+Eigen::Index coincident_vertices(const Positions& positions);
+
 // The vertices on the mesh boundary (on an edge with one triangle), as a mask.
 // Requires a mesh that passed validate_mesh.
 std::vector<bool> boundary_vertices(const Positions& positions, const Triangles& triangles);

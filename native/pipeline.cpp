@@ -1,6 +1,7 @@
 #include "pipeline.h"
 
 #include "measures.h"
+#include "memory_budget.h"
 #include "mesh_input.h"
 
 #include <Eigen/Geometry>
@@ -257,6 +258,19 @@ std::string unchanged_message(const Rejections& r) {
          reasons + ". Try " + advice + ".";
 }
 
+// Why a mesh has no interior vertex, naming the likely cause when its
+// vertices share positions (a polygon soup).
+std::string no_interior_vertex_message(const Positions& positions) {
+  std::string message =
+      "the mesh has no interior vertex: every vertex is on the boundary, so there is no curvature to reduce";
+  const Eigen::Index shared = coincident_vertices(positions);
+  if (shared > 0)
+    message += "; " + std::to_string(shared) + " of " + std::to_string(positions.rows()) +
+               " vertices share a position with another vertex (a polygon soup?): weld them first "
+               "(Blender: Merge by Distance)";
+  return message;
+}
+
 }  // namespace
 
 void check_options(const PipelineOptions& o) {
@@ -284,6 +298,17 @@ void check_options(const PipelineOptions& o) {
   require(o.curve_options.grid_resolution == 0 ||
               (o.curve_options.grid_resolution >= 16 && o.curve_options.grid_resolution <= 2048),
           "grid_resolution must be 0 (automatic) or between 16 and 2048");
+}
+
+void check_input(const Positions& positions, const Triangles& triangles, const std::vector<bool>& pinned,
+                 const PipelineOptions& options, const Progress& progress) {
+  // Options first: a wild grid_resolution is invalid_argument, not out_of_memory.
+  check_options(options);
+  check_memory_budget(positions.rows(), triangles.rows(), options);
+  progress.report(0.0, "checking input");
+  validate_mesh(positions, triangles);
+  if (!pinned.empty() && static_cast<Eigen::Index>(pinned.size()) != positions.rows())
+    throw EngineError(Status::invalid_argument, "the pin mask needs one entry per vertex");
 }
 
 PatchFaces faces_of_patches(const std::vector<int>& patch_ids, int patch_count) {
@@ -358,12 +383,8 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
                             const std::vector<bool>& pinned_input, const PipelineOptions& options,
                             const Progress& progress) {
   const auto start_time = Clock::now();
-  check_options(options);
-  progress.report(0.0, "checking input");
-  validate_mesh(positions, triangles);
+  check_input(positions, triangles, pinned_input, options, progress);
   const Eigen::Index n = positions.rows();
-  if (!pinned_input.empty() && static_cast<Eigen::Index>(pinned_input.size()) != n)
-    throw EngineError(Status::invalid_argument, "the pin mask needs one entry per vertex");
 
   PipelineResult result;
   PipelineStats& stats = result.stats;
@@ -374,9 +395,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   const DefectStats before = defect_stats(result.defect_before, result.interior);
   stats.interior_vertices = before.interior_count;
   if (before.interior_count == 0)
-    throw EngineError(Status::no_interior_vertex,
-                      "the mesh has no interior vertex: every vertex is on the boundary, so "
-                      "there is no curvature to reduce");
+    throw EngineError(Status::no_interior_vertex, no_interior_vertex_message(positions));
   stats.mean_defect_before = before.mean_abs;
   stats.max_defect_before = before.max_abs;
   stats.average_edge_length = average_edge_length(positions, triangles);

@@ -21,14 +21,17 @@
 
 namespace developable {
 
+// The numeric values of Mode, Seams, StopReason and ResultKind are those of
+// DEV_MODE_*, DEV_SEAMS_*, DEV_STOP_* and DEV_RESULT_* in the C ABI
+// (developable.h); static_asserts in c_api.cpp keep them equal.
 enum class Mode {
-  refit,  // refit the ideal curve and targets from the deformed mesh every iteration
-  paper,  // one set of targets from the input, the coupled system factored once
+  refit = 0,  // refit the ideal curve and targets from the deformed mesh every iteration
+  paper = 1,  // one set of targets from the input, the coupled system factored once
 };
 
 enum class Seams {
-  free,    // one global solve; seams between patches move like any vertex
-  pinned,  // the paper's: vertices on patch borders are pinned
+  free = 0,    // one global solve; seams between patches move like any vertex
+  pinned = 1,  // the paper's: vertices on patch borders are pinned
 };
 
 // Weight of the centroid rows (lambda in deformation.h) in the refit mode;
@@ -69,6 +72,15 @@ struct PipelineOptions {
 
 // Throws EngineError(invalid_argument) naming the first option out of range.
 void check_options(const PipelineOptions& options);
+
+// The checks of a run's input, in this order, each before anything that
+// needs it is allocated: the options (check_options), the memory budget for
+// the mesh's counts (check_memory_budget in memory_budget.h:
+// out_of_memory), progress 0 "checking input", the mesh (validate_mesh in
+// mesh_input.h: its own statuses), and the pin mask's size (empty or one
+// entry per vertex: invalid_argument). run_pipeline calls it first.
+void check_input(const Positions& positions, const Triangles& triangles, const std::vector<bool>& pinned,
+                 const PipelineOptions& options, const Progress& progress);
 
 struct PatchCurve {
   int patch = 0;
@@ -114,8 +126,9 @@ struct PipelineResult {
 // inside the patches, because there the curvature is meant to gather on the
 // seams. When no iterate is eligible and better, the input is returned with
 // stats.result = unchanged and stats.result_message saying why.
-// Throws EngineError: the input's status, no_interior_vertex, no_free_vertex,
-// invalid_argument, cancelled (via progress), numerical_failure.
+// Throws EngineError: check_input's statuses, no_interior_vertex (naming the
+// vertices that share a position when the mesh looks like an unwelded
+// polygon soup), no_free_vertex, cancelled (via progress), numerical_failure.
 PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,
                             const std::vector<bool>& pinned, const PipelineOptions& options,
                             const Progress& progress);

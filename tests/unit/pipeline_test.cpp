@@ -3,10 +3,12 @@
 #include "pipeline.h"
 
 #include "measures.h"
+#include "mesh_input.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
 
 namespace developable {
@@ -77,6 +79,55 @@ TEST(Pipeline, NoInteriorVertexIsRefused) {
   } catch (const EngineError& e) {
     EXPECT_EQ(e.status(), Status::no_interior_vertex);
   }
+}
+
+// The status and message run_pipeline throws (ok when it runs).
+std::pair<Status, std::string> refusal(const test::Mesh& m) {
+  try {
+    run_pipeline(m.positions, m.triangles, {}, {}, {});
+  } catch (const EngineError& e) {
+    return {e.status(), e.what()};
+  }
+  return {Status::ok, ""};
+}
+
+TEST(Pipeline, PolygonSoupIsNamed) {
+  // The cube with every triangle on its own three vertices.
+  const auto cube = test::cube();
+  test::Mesh soup;
+  soup.positions.resize(3 * cube.triangles.rows(), 3);
+  soup.triangles.resize(cube.triangles.rows(), 3);
+  for (Eigen::Index f = 0; f < cube.triangles.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      soup.positions.row(3 * f + c) = cube.positions.row(cube.triangles(f, c));
+      soup.triangles(f, c) = static_cast<int>(3 * f + c);
+    }
+  EXPECT_EQ(coincident_vertices(soup.positions), 36);
+  EXPECT_EQ(coincident_vertices(cube.positions), 0);
+  const auto [status, message] = refusal(soup);
+  EXPECT_EQ(status, Status::no_interior_vertex);
+  EXPECT_NE(message.find("36 of 36 vertices share a position"), std::string::npos) << message;
+  // A strip has no interior vertex either, but no soup to blame.
+  const auto strip = refusal(test::plane(2, 5));
+  EXPECT_EQ(strip.first, Status::no_interior_vertex);
+  EXPECT_EQ(strip.second.find("soup"), std::string::npos) << strip.second;
+}
+
+TEST(Pipeline, MemoryBudgetIsCheckedBeforeTheMesh) {
+  // Over a 1 MiB budget (the fixed part alone is more) even a mesh with a
+  // bad index is refused for memory: the budget comes first.
+  const char* name = "DEVELOPABLE_MEMORY_BUDGET_MB";
+  const char* old = std::getenv(name);
+  const std::string saved = old ? old : "";
+  setenv(name, "1", 1);
+  auto bad = test::plane();
+  bad.triangles(0, 0) = 10000;
+  const auto [status, message] = refusal(bad);
+  if (old) setenv(name, saved.c_str(), 1);
+  else unsetenv(name);
+  EXPECT_EQ(status, Status::out_of_memory);
+  EXPECT_NE(message.find("memory budget"), std::string::npos) << message;
+  EXPECT_EQ(refusal(bad).first, Status::index_out_of_range);
 }
 
 TEST(Pipeline, FacesOfPatchesAndTargetsOnTheirOwnPatch) {

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <new>
 #include <string>
@@ -147,6 +148,15 @@ developable::PipelineOptions to_options(const dev_params& p) {
   o.seams = p.seams == DEV_SEAMS_PINNED ? developable::Seams::pinned : developable::Seams::free;
   o.curve_options.grid_resolution = p.grid_resolution;
   o.target_smoothing = p.target_smoothing;
+  // Not a parameter: the result does not depend on it (tests and benchmarks
+  // set it to check that, and servers to share the machine).
+  if (const char* threads = std::getenv("DEVELOPABLE_THREADS"); threads != nullptr && *threads != '\0') {
+    char* end = nullptr;
+    const long count = std::strtol(threads, &end, 10);
+    require(*end == '\0' && count >= 0 && count <= 256,
+            "DEVELOPABLE_THREADS must be 0 (automatic) or a thread count up to 256");
+    o.threads = static_cast<int>(count);
+  }
   return o;
 }
 

@@ -263,7 +263,8 @@ void nearest_rows(const Normals& normals, const ArcTree& tree, Eigen::Index begi
 }
 
 // Targets of all rows, over a few threads for large inputs.
-Normals nearest_on_curves(const Normals& normals, const ArcTree& tree, std::vector<int>* hints) {
+Normals nearest_on_curves(const Normals& normals, const ArcTree& tree, std::vector<int>* hints,
+                          int threads) {
   for (Eigen::Index i = 0; i < normals.rows(); ++i) {
     if (!normals.row(i).allFinite()) {
       throw EngineError(Status::invalid_argument, "nearest on curves: normal " + std::to_string(i) + " is not finite");
@@ -276,7 +277,8 @@ Normals nearest_on_curves(const Normals& normals, const ArcTree& tree, std::vect
   // Fixed chunks, independent of the thread count.
   constexpr Eigen::Index kChunk = 8192;
   const Eigen::Index chunks = (normals.rows() + kChunk - 1) / kChunk;
-  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+  const unsigned hardware =
+      threads > 0 ? static_cast<unsigned>(threads) : std::max(1u, std::thread::hardware_concurrency());
   const int workers = static_cast<int>(std::min<Eigen::Index>(std::min(hardware, 8u), chunks));
   std::atomic<Eigen::Index> next{0};
   auto work = [&]() {
@@ -347,9 +349,9 @@ CurveSearch::CurveSearch(const std::vector<SphereCurve>& curves) {
   tree_ = std::make_shared<const Tree>(Tree{build_tree(std::move(arcs))});
 }
 
-Normals CurveSearch::nearest(const Normals& normals, std::vector<int>* hints) const {
+Normals CurveSearch::nearest(const Normals& normals, std::vector<int>* hints, int threads) const {
   if (!tree_) throw EngineError(Status::invalid_argument, "nearest on curves: no curve");
-  return nearest_on_curves(normals, tree_->tree, hints);
+  return nearest_on_curves(normals, tree_->tree, hints, threads);
 }
 
 }  // namespace developable

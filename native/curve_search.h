@@ -48,9 +48,9 @@ class CurveSearch {
   //   tree. The answer is exact whatever the hints (resized and reset when
   //   their size does not match).
   // Throws EngineError(invalid_argument) on a non-finite normal or when
-  // empty(). Large inputs are split over a few threads; the result does not
-  // depend on how many run.
-  Normals nearest(const Normals& normals, std::vector<int>* hints = nullptr) const;
+  // empty(). Large inputs are split over `threads` threads (0: the
+  // machine's, at most 8); the result does not depend on how many run.
+  Normals nearest(const Normals& normals, std::vector<int>* hints = nullptr, int threads = 0) const;
 
  private:
   struct Tree;                        // arcs and balls, in curve_search.cpp

@@ -7,7 +7,13 @@
  *     are checked against the counts the caller gives;
  *   - no global state: calls on different data may run on different threads.
  * Errors come back as a DEV_STATUS_* code plus a message naming the first bad
- * element, copied into the caller's `message` buffer (always NUL-terminated). */
+ * element, copied into the caller's `message` buffer (always NUL-terminated).
+ *
+ * One result per input: the same mesh and parameters give bit-identical
+ * output on one machine, whatever ran before and whatever the thread count.
+ * The environment variable DEVELOPABLE_THREADS (0 or unset: the machine's
+ * cores, at most 8) sets how many threads dev_run uses; it changes only the
+ * time. DEVELOPABLE_MEMORY_BUDGET_MB sets the memory budget (memory_budget.h). */
 #ifndef DEVELOPABLE_H
 #define DEVELOPABLE_H
 

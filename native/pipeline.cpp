@@ -298,6 +298,7 @@ void check_options(const PipelineOptions& o) {
   require(o.curve_options.grid_resolution == 0 ||
               (o.curve_options.grid_resolution >= 16 && o.curve_options.grid_resolution <= 2048),
           "grid_resolution must be 0 (automatic) or between 16 and 2048");
+  require(o.threads >= 0 && o.threads <= 256, "threads must be 0 (automatic) or between 1 and 256");
 }
 
 void check_input(const Positions& positions, const Triangles& triangles, const std::vector<bool>& pinned,
@@ -364,15 +365,16 @@ std::vector<CurveSearch> patch_curve_searches(const std::vector<PatchCurve>& cur
 
 Normals patch_target_normals(const Normals& normals, const PatchFaces& patches,
                              const std::vector<CurveSearch>& searches,
-                             std::vector<std::vector<int>>* hints) {
+                             std::vector<std::vector<int>>* hints, int threads) {
   if (hints != nullptr) hints->resize(patches.size());
   Normals targets(normals.rows(), 3);
   for (size_t patch = 0; patch < patches.size(); ++patch) {
     const auto& members = patches[patch];
     if (members.empty()) continue;
     std::vector<int>* const patch_hints = hints != nullptr ? &(*hints)[patch] : nullptr;
-    if (whole_mesh(members, normals.rows())) return searches[patch].nearest(normals, patch_hints);
-    const Normals patch_targets = searches[patch].nearest(gather_rows(normals, members), patch_hints);
+    if (whole_mesh(members, normals.rows())) return searches[patch].nearest(normals, patch_hints, threads);
+    const Normals patch_targets =
+        searches[patch].nearest(gather_rows(normals, members), patch_hints, threads);
     for (size_t i = 0; i < members.size(); ++i)
       targets.row(members[i]) = patch_targets.row(static_cast<Eigen::Index>(i));
   }
@@ -429,7 +431,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     patches = faces_of_patches(result.patch_ids, 1);
     result.curves = fit_patch_curves(normals_before, areas_before, patches, options.curve_options);
     searches = patch_curve_searches(result.curves, 1);
-    result.target_normals = patch_target_normals(normals_before, patches, searches, &hints);
+    result.target_normals = patch_target_normals(normals_before, patches, searches, &hints, options.threads);
     segment = options.segmentation == -1 &&
               curve_fit_error(normals_before, result.target_normals, areas_before) >
                   kAutoSegmentationError;
@@ -442,7 +444,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     patches = faces_of_patches(result.patch_ids, patch_count);
     result.curves = fit_patch_curves(normals_before, areas_before, patches, options.curve_options);
     searches = patch_curve_searches(result.curves, patch_count);
-    result.target_normals = patch_target_normals(normals_before, patches, searches, &hints);
+    result.target_normals = patch_target_normals(normals_before, patches, searches, &hints, options.threads);
   }
   stats.patches = patch_count;
   // The refit mode treats a segmented mesh as pieces meeting at seams: it is
@@ -542,7 +544,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
         result.curves = fit_patch_curves(normals, areas, patches, options.curve_options);
         searches = patch_curve_searches(result.curves, patch_count);
       }
-      result.target_normals = patch_target_normals(normals, patches, searches, &hints);
+      result.target_normals = patch_target_normals(normals, patches, searches, &hints, options.threads);
       if (smoother) result.target_normals = smoother->smooth(result.target_normals, areas, smoothing_rounds);
       const auto refactor_start = Clock::now();
       deformation.set_targets(result.target_normals);

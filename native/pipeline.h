@@ -68,6 +68,9 @@ struct PipelineOptions {
   // then 1 from the best iterate if the run stalls with more than 10 % of its
   // score left (kSmoothedPhaseShare in pipeline.cpp).
   int target_smoothing = -1;
+  // Threads of the target search (curve_search.h); 0: the machine's, at most
+  // 8. The result is bit-identical whatever the count.
+  int threads = 0;
 };
 
 // Throws EngineError(invalid_argument) naming the first option out of range.
@@ -151,9 +154,10 @@ std::vector<CurveSearch> patch_curve_searches(const std::vector<PatchCurve>& cur
 // The target normal of every face: its nearest point on its own patch's curves.
 //   normals: per face; patches: from faces_of_patches; searches: from
 //   patch_curve_searches, one per patch; hints: null, or the caller's scratch
-//   kept between calls (CurveSearch::nearest), one entry per patch.
+//   kept between calls (CurveSearch::nearest), one entry per patch;
+//   threads: as in CurveSearch::nearest.
 Normals patch_target_normals(const Normals& normals, const PatchFaces& patches,
                              const std::vector<CurveSearch>& searches,
-                             std::vector<std::vector<int>>* hints = nullptr);
+                             std::vector<std::vector<int>>* hints = nullptr, int threads = 0);
 
 }  // namespace developable

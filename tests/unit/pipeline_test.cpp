@@ -164,5 +164,25 @@ TEST(Pipeline, ResultsAreNeverFoldedOrWorse) {
   }
 }
 
+// One result per input: thread counts and earlier runs change nothing. More
+// faces than one chunk of the target search (8192) so that threads share it.
+TEST(Pipeline, ResultDoesNotDependOnThreadsOrEarlierRuns) {
+  auto m = test::cylinder(80, 120);
+  test::add_noise(m.positions, 0.005, 5);
+  ASSERT_GT(m.triangles.rows(), 2 * 8192);
+  PipelineOptions options;
+  options.max_iterations = 12;
+  options.threads = 1;
+  const PipelineResult one = run_pipeline(m.positions, m.triangles, {}, options, {});
+  options.threads = 2;
+  const PipelineResult two = run_pipeline(m.positions, m.triangles, {}, options, {});
+  options.threads = 0;
+  const PipelineResult again = run_pipeline(m.positions, m.triangles, {}, options, {});
+  EXPECT_TRUE(one.positions == two.positions);
+  EXPECT_TRUE(one.positions == again.positions);
+  EXPECT_TRUE(one.target_normals == two.target_normals);
+  EXPECT_EQ(one.stats.iterations, two.stats.iterations);
+}
+
 }  // namespace
 }  // namespace developable

@@ -9,6 +9,7 @@ Registration only; the parts live in their own modules:
   writeback   shape key, attributes, colours, stats
   gauss_image the Gauss image objects
   panels      the sidebar tab "Developable"
+  pattern     mesh.unfold_pattern, its settings and sub-panel (flat pieces, SVG)
 
 Works as a legacy add-on (bl_info, Blender 3.x) and as a 4.2+ extension
 (blender_manifest.toml beside this file); the package name is never assumed.
@@ -27,14 +28,14 @@ bl_info = {
 
 if "bpy" in locals():  # script reload (F8 / addon_utils)
     import importlib
-    for _m in (native, mesh_io, properties, writeback, gauss_image, operators, panels):  # noqa: F821
+    for _m in (native, mesh_io, properties, writeback, gauss_image, operators, panels, pattern):  # noqa: F821
         importlib.reload(_m)
 
 import bpy  # noqa: E402
 
-from . import native, mesh_io, properties, writeback, gauss_image, operators, panels  # noqa: E402
+from . import native, mesh_io, properties, writeback, gauss_image, operators, panels, pattern  # noqa: E402
 
-_modules = (properties, operators, panels)
+_modules = (properties, operators, panels, pattern)  # pattern after panels: its sub-panel's parent
 
 
 def register():

@@ -135,6 +135,7 @@ class dev_pattern_params(ctypes.Structure):
         ("layout", ctypes.c_int32),
         ("unit_name", ctypes.c_char * 8),
         ("svg_path", ctypes.c_char_p),
+        ("face_groups", ctypes.POINTER(ctypes.c_int32)),
     ]
 
 
@@ -538,9 +539,10 @@ def _struct_dict(st):
     return out
 
 
-def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None):
+def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None, face_groups=None):
     """Unfolds (dev_unfold). params: dict of PATTERN_PARAM_NAMES -> value (unit_name may also
-    set unit_mm when that is not given); svg_path: None or the SVG to write.
+    set unit_mm when that is not given); svg_path: None or the SVG to write; face_groups: None
+    or (t,) ints, triangles of one group (e.g. polygon) kept in one piece.
     Returns Pattern; raises EngineError or LibraryError."""
     lib = load()
     pos = _as_positions(positions)
@@ -563,6 +565,11 @@ def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None):
         if ids.shape[0] != t:
             raise EngineError(7, "patch_ids has %d entries for %d triangles" % (ids.shape[0], t))
         ids_ptr = ids.ctypes.data_as(_i32_p)
+    if face_groups is not None:
+        groups = np.ascontiguousarray(face_groups, dtype=np.int32).reshape(-1)
+        if groups.shape[0] != t:
+            raise EngineError(7, "face_groups has %d entries for %d triangles" % (groups.shape[0], t))
+        p.face_groups = groups.ctypes.data_as(_i32_p)
     res = _result_p()
     msg = ctypes.create_string_buffer(1024)
     status = lib.dev_unfold(pos.ctypes.data_as(_dbl_p), n, tri.ctypes.data_as(_i32_p), t, ids_ptr,

@@ -348,6 +348,7 @@ void dev_default_pattern_params(dev_pattern_params* params) {
   params->layout = 1;
   std::memcpy(params->unit_name, layout.unit_name.c_str(), layout.unit_name.size() + 1);
   params->svg_path = nullptr;
+  params->face_groups = nullptr;
 }
 
 int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* triangles,
@@ -367,6 +368,8 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
     developable::validate_mesh(mesh_positions, mesh_triangles);
     std::vector<int> patches;
     if (patch_ids != nullptr) patches.assign(patch_ids, patch_ids + n_triangles);
+    std::vector<int> groups;
+    if (p.face_groups != nullptr) groups.assign(p.face_groups, p.face_groups + n_triangles);
     developable::UnfoldOptions unfold_options;
     unfold_options.arap_iterations = p.arap_iterations;
     unfold_options.seam_tolerance = p.seam_tolerance;
@@ -382,7 +385,7 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
     require(p.layout != 0 || !write_svg, "svg_path needs layout");
 
     auto owned = std::make_unique<dev_pattern>();
-    owned->unfolded = developable::unfold(mesh_positions, mesh_triangles, patches, unfold_options);
+    owned->unfolded = developable::unfold(mesh_positions, mesh_triangles, patches, unfold_options, groups);
     dev_pattern_stats& st = owned->stats;
     st.time_unfold_ms = elapsed_ms(start);
     const auto layout_start = std::chrono::steady_clock::now();

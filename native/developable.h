@@ -233,6 +233,9 @@ typedef struct dev_pattern_params {
                                "mm", "in"). Default "m". */
   const char* svg_path;     /* NULL or "": write no file; else the SVG: this path for one sheet,
                                <stem>-1.svg, <stem>-2.svg, ... for more. Default NULL. */
+  const int32_t* face_groups; /* NULL, or n_triangles int32: triangles with the same value (e.g. the
+                               polygon they were cut from) are never cut apart nor split apart,
+                               unless that group alone cannot lie flat. Default NULL. */
 } dev_pattern_params;
 
 typedef struct dev_pattern_stats {

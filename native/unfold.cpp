@@ -12,6 +12,7 @@
 #include <map>
 #include <numeric>
 #include <queue>
+#include <tuple>
 #include <unordered_map>
 
 namespace developable {
@@ -80,14 +81,22 @@ EdgeTable edge_table(const std::vector<std::array<int, 3>>& tris) {
 struct LocalPiece {
   std::vector<int> faces;
   std::vector<std::array<int, 3>> tris;  // vertex ids of the mesh
+  std::vector<int> groups;               // per face: its group, -1 for none
+  // An edge inside a group (both faces in one polygon) is never cut.
+  bool inner(const std::array<int, 2>& uses) const {
+    return uses[1] >= 0 && groups[uses[0] / 3] >= 0 && groups[uses[0] / 3] == groups[uses[1] / 3];
+  }
 };
 
-LocalPiece local_piece(const Triangles& triangles, std::vector<int> faces) {
+LocalPiece local_piece(const Triangles& triangles, std::vector<int> faces,
+                       const std::vector<int>& face_groups) {
   LocalPiece piece;
   piece.faces = std::move(faces);
   piece.tris.reserve(piece.faces.size());
-  for (int f : piece.faces)
+  for (int f : piece.faces) {
     piece.tris.push_back({triangles(f, 0), triangles(f, 1), triangles(f, 2)});
+    piece.groups.push_back(face_groups.empty() ? -1 : face_groups[f]);
+  }
   return piece;
 }
 
@@ -171,7 +180,7 @@ VertexGraph vertex_graph(const Positions& positions, const LocalPiece& piece,
     const int f = fe / 3, k = fe % 3;
     const int a = piece.tris[f][k], b = piece.tris[f][(k + 1) % 3];
     g.length[e] = (positions.row(a) - positions.row(b)).norm();
-    if (edges.uses[e][1] < 0) continue;
+    if (edges.uses[e][1] < 0 || piece.inner(edges.uses[e])) continue;
     const int va = verts.of_corner[fe], vb = verts.of_corner[3 * f + (k + 1) % 3];
     arcs.push_back({va, vb, static_cast<int>(e)});
     arcs.push_back({vb, va, static_cast<int>(e)});
@@ -294,7 +303,10 @@ bool choose_cuts(const Positions& positions, const LocalPiece& piece, const Edge
   std::vector<int> order;
   for (size_t e = 0; e < edges.keys.size(); ++e)
     if (edges.uses[e][1] >= 0 && !is_cut[e]) order.push_back(static_cast<int>(e));
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return g.length[a] > g.length[b]; });
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const bool ia = piece.inner(edges.uses[a]), ib = piece.inner(edges.uses[b]);
+    return ia != ib ? ia : g.length[a] > g.length[b];
+  });
   UnionFind dual(piece.tris.size());
   std::vector<char> in_graph(edges.keys.size(), 1);
   for (int e : order) {
@@ -554,7 +566,8 @@ bool flatten_disc(const Positions& positions, const LocalPiece& piece, const Cor
     if (arap.info() != Eigen::Success || !x.allFinite()) return false;
     for (int v = 1; v < nv; ++v) uv[v] = x.row(unknown[v]).transpose();
     const double e = energy(uv);
-    if (e <= 1e-24 * total_area ||
+    // e / area is about the mean squared edge strain: 1e-18 is far below any figure shown.
+    if (e <= 1e-18 * total_area ||
         (std::isfinite(previous) && std::abs(previous - e) <= options.arap_tolerance * previous)) {
       ++rounds;
       break;
@@ -640,7 +653,7 @@ bool flatten_piece(const Positions& positions, const LocalPiece& piece,
 
 // Connected parts (across shared edges) of a set of faces.
 std::vector<std::vector<int>> connected_parts(const Triangles& triangles, const std::vector<int>& faces) {
-  const LocalPiece piece = local_piece(triangles, faces);
+  const LocalPiece piece = local_piece(triangles, faces, {});
   const EdgeTable edges = edge_table(piece.tris);
   UnionFind uf(faces.size());
   for (const auto& uses : edges.uses)
@@ -656,9 +669,10 @@ std::vector<std::vector<int>> connected_parts(const Triangles& triangles, const 
   return parts;
 }
 
-// Two halves across the principal axis of the face centroids.
+// Two halves across the principal axis of the face centroids, a group's faces
+// on one side (they take the group's mean place) unless the piece is one group.
 std::array<std::vector<int>, 2> split_in_two(const Positions& positions, const Triangles& triangles,
-                                             const std::vector<int>& faces) {
+                                             const std::vector<int>& faces, const std::vector<int>& face_groups) {
   std::vector<Vec3> centroid(faces.size());
   Vec3 mean = Vec3::Zero();
   for (size_t i = 0; i < faces.size(); ++i) {
@@ -672,12 +686,24 @@ std::array<std::vector<int>, 2> split_in_two(const Positions& positions, const T
   for (const Vec3& c : centroid) cov += (c - mean) * (c - mean).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
   const Vec3 axis = eig.eigenvectors().col(2);
-  std::vector<std::pair<double, int>> order(faces.size());
-  for (size_t i = 0; i < faces.size(); ++i) order[i] = {centroid[i].dot(axis), faces[i]};
-  const size_t half = faces.size() / 2;
-  std::nth_element(order.begin(), order.begin() + half, order.end());
+  const auto group = [&](int f) { return face_groups.empty() ? -1 - f : face_groups[f]; };
+  std::unordered_map<int, std::pair<double, int>> place;  // group -> (sum, count)
+  for (size_t i = 0; i < faces.size(); ++i) {
+    auto& p = place[group(faces[i])];
+    p.first += centroid[i].dot(axis);
+    ++p.second;
+  }
+  std::vector<std::tuple<double, int, int>> order(faces.size());  // (place, group, face)
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const auto& p = place[group(faces[i])];
+    order[i] = {p.first / p.second, group(faces[i]), faces[i]};
+  }
+  std::sort(order.begin(), order.end());
+  size_t half = faces.size() / 2;
+  while (half < order.size() && std::get<1>(order[half]) == std::get<1>(order[half - 1])) ++half;
+  if (half == order.size()) half = faces.size() / 2;  // one group: split it after all
   std::array<std::vector<int>, 2> out;
-  for (size_t i = 0; i < order.size(); ++i) out[i < half ? 0 : 1].push_back(order[i].second);
+  for (size_t i = 0; i < order.size(); ++i) out[i < half ? 0 : 1].push_back(std::get<2>(order[i]));
   return out;
 }
 
@@ -690,11 +716,16 @@ int corner_of(const Triangles& triangles, int face, int vertex) {
 }  // namespace
 
 UnfoldResult unfold(const Positions& positions, const Triangles& triangles,
-                    const std::vector<int>& patch_ids, const UnfoldOptions& options) {
+                    const std::vector<int>& patch_ids, const UnfoldOptions& options,
+                    const std::vector<int>& face_groups) {
   const Eigen::Index nf = triangles.rows();
   if (!patch_ids.empty() && static_cast<Eigen::Index>(patch_ids.size()) != nf)
     throw EngineError(Status::invalid_argument,
                       "patch_ids has " + std::to_string(patch_ids.size()) + " entries for " +
+                          std::to_string(nf) + " triangles");
+  if (!face_groups.empty() && static_cast<Eigen::Index>(face_groups.size()) != nf)
+    throw EngineError(Status::invalid_argument,
+                      "face_groups has " + std::to_string(face_groups.size()) + " entries for " +
                           std::to_string(nf) + " triangles");
   for (size_t f = 0; f < patch_ids.size(); ++f)
     if (patch_ids[f] < 0)
@@ -740,14 +771,14 @@ UnfoldResult unfold(const Positions& positions, const Triangles& triangles,
   while (!stack.empty()) {
     auto [faces, splits] = std::move(stack.back());
     stack.pop_back();
-    const LocalPiece piece = local_piece(triangles, faces);
+    const LocalPiece piece = local_piece(triangles, faces, face_groups);
     FlatPiece flat;
     if (!flatten_piece(positions, piece, options, &flat)) {
       if (faces.size() <= 1)
         throw EngineError(Status::numerical_failure,
                           "triangle " + std::to_string(faces[0]) + " could not be laid flat");
       ++result.split_count;
-      for (const auto& half : split_in_two(positions, triangles, faces))
+      for (const auto& half : split_in_two(positions, triangles, faces, face_groups))
         for (auto& part : connected_parts(triangles, half)) stack.emplace_back(std::move(part), splits + 1);
       continue;
     }

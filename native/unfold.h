@@ -19,7 +19,7 @@ struct UnfoldOptions {
   // round costs one back-substitution. Stops earlier when the energy changes
   // by less than arap_tolerance (relative) between rounds.
   int arap_iterations = 50;
-  double arap_tolerance = 1e-9;
+  double arap_tolerance = 1e-6;
   // Largest |l_flat / l_3d - 1| of an outline edge; a piece beyond it is split,
   // so that the two sides of every seam keep their lengths within twice this.
   // 0: no limit (a piece is split only when it overlaps itself).
@@ -71,6 +71,9 @@ struct UnfoldResult {
 //     model units.
 //   patch_ids: per face, >= 0 (any ids; faces of one id that are not joined
 //     by edges become separate pieces); empty = one patch.
+//   face_groups: empty, or per face a group id (e.g. the polygon a triangle
+//     was cut from): faces of one group are never cut apart, nor split apart
+//     unless the group alone cannot lie flat.
 // Each piece is a connected set of faces of one patch. A piece that is not a
 // disc (a band, a closed tube, holes, handles) is first cut along short
 // interior edge paths: shortest paths join every further boundary loop to the
@@ -86,9 +89,10 @@ struct UnfoldResult {
 // principal axis and each half is unfolded again, down to single triangles,
 // which always lie flat. Exact developables therefore come back isometric up
 // to rounding.
-// Throws EngineError(invalid_argument) for a patch_ids of the wrong size or a
+// Throws EngineError(invalid_argument) for a patch_ids or face_groups of the wrong size or a
 // negative id, numerical_failure if a factorisation fails on every split.
 UnfoldResult unfold(const Positions& positions, const Triangles& triangles,
-                    const std::vector<int>& patch_ids, const UnfoldOptions& options = {});
+                    const std::vector<int>& patch_ids, const UnfoldOptions& options = {},
+                    const std::vector<int>& face_groups = {});
 
 }  // namespace developable

@@ -11,7 +11,10 @@ OUT  .blend (the object with the "Developable" shape key, the defect colours and
 Every engine parameter is an option (--omega 5 --tolerance 10 --mode PAPER
 --pin-boundary --no-use-mls-weights ...); see --help. Also --pin-group NAME,
 --object NAME (which object of a .blend), --gauss-image, --render PREFIX
-(writes PREFIX_before.png and PREFIX_after.png: Workbench, defect colours).
+(writes PREFIX_before.png and PREFIX_after.png: Workbench, defect colours),
+--pattern OUT.svg (then Unfold Pattern: the flat pieces as SVG sheets, the UV
+map "Developable Pattern", seams and strain; --sheet a4|a3|letter|WxH,
+--pattern-scale X|auto, --unit scene|m|cm|mm|in, --seam-tolerance PERCENT).
 
 The add-on is taken from, in order: --addon-module NAME; an installed add-on or
 extension whose module ends with "developable_mesh"; the repository's addon/
@@ -228,6 +231,15 @@ def build_parser(addon):
     p.add_argument("--render", default="", metavar="PREFIX",
                    help="write PREFIX_before.png / PREFIX_after.png")
     p.add_argument("--addon-module", default="", help=argparse.SUPPRESS)
+    p.add_argument("--pattern", default="", metavar="OUT.svg",
+                   help="unfold the result into flat pieces and write them as SVG sheets")
+    p.add_argument("--sheet", default="a4", help="pattern sheet: a4, a3, letter or WxH in mm")
+    p.add_argument("--pattern-scale", default="1", metavar="X|auto",
+                   help="paper length per model length (1 = 1:1) or auto")
+    p.add_argument("--unit", default="scene", choices=["scene", "m", "cm", "mm", "in"],
+                   help="what one Blender unit is (default: the scene's unit scale)")
+    p.add_argument("--seam-tolerance", type=float, default=None, metavar="PERCENT",
+                   help="largest stretch of a piece's outline edge before it is split")
     defs = dict(props.engine_property_definitions(), **props.pin_property_definitions())
     for name, prop in defs.items():
         kw = prop.keywords if hasattr(prop, "keywords") else prop[1]
@@ -247,6 +259,40 @@ def build_parser(addon):
         else:
             p.add_argument(flag, dest=name, help=help_text)
     return p, list(defs)
+
+
+def unfold_pattern(ob, args):
+    """Unfold Pattern with the options; its figures, or {"error": ...}."""
+    settings = bpy.context.scene.developable_pattern
+    sheet = args.sheet.lower()
+    if sheet in ("a4", "a3", "letter"):
+        settings.sheet = sheet.upper()
+    else:
+        try:
+            width, height = (float(x) for x in sheet.split("x"))
+        except ValueError:
+            return {"error": "--sheet needs a4, a3, letter or WxH in mm, got %r" % args.sheet}
+        settings.sheet = "CUSTOM"
+        settings.sheet_width, settings.sheet_height = width, height
+    if args.pattern_scale == "auto":
+        settings.auto_scale = True
+    else:
+        settings.auto_scale = False
+        settings.scale = float(args.pattern_scale)
+    settings.unit = "SCENE" if args.unit == "scene" else args.unit
+    if args.seam_tolerance is not None:
+        settings.seam_tolerance = args.seam_tolerance
+    settings.export_svg = True
+    bpy.context.view_layer.objects.active = ob
+    try:
+        bpy.ops.mesh.unfold_pattern(filepath=os.path.abspath(args.pattern))
+    except RuntimeError as exc:
+        print(str(exc).strip())
+        return {"error": str(exc).strip()}
+    rec = ob.developable_pattern
+    return {"pieces": rec.pieces, "sheets": rec.sheets, "seams": rec.seams,
+            "worst_strain_percent": rec.worst_strain, "mean_strain_percent": rec.mean_strain,
+            "scale": rec.scale, "files": rec.files.split("; ") if rec.files else []}
 
 
 def main():
@@ -284,6 +330,12 @@ def main():
     summary.update({k: getattr(rec, k) for k in (
         "e_before", "e_after", "change_percent", "time_ms", "iterations", "max_move",
         "patches", "curves", "pinned", "colour_scale", "stop_reason")})
+    if args.pattern:
+        summary["pattern"] = unfold_pattern(ob, args)
+        if "error" in summary["pattern"]:
+            print("DEVELOPABLE_RESULT " + json.dumps(summary))
+            sys.stdout.flush()
+            raise SystemExit(1)
     if args.render:
         summary["renders"] = render_before_after(ob, args.render, addon)
     export(ob, args.output)

@@ -1,24 +1,19 @@
 """Helpers for the flat-pattern tests (tests/test_pattern*.py): the binding
-addon/native.py loaded without bpy, a PNG reader for rsvg-convert's output and
+on the build's library, a PNG reader for rsvg-convert's output and
 geometric checks of an unfolding."""
-import importlib.util
+import os
 import pathlib
 import struct
 import zlib
 
 import numpy as np
 
-REPO = pathlib.Path(__file__).resolve().parent.parent
-
-
 def load_native(library_path):
-    """addon/native.py as a plain module (the add-on package imports bpy)."""
-    spec = importlib.util.spec_from_file_location("developable_native", REPO / "addon" / "native.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    module.os.environ[module.ENV_VAR] = str(library_path)
-    module.load(force_reload=True)
-    return module
+    """addon/native.py (devkit.binding: the add-on package imports bpy) on this library."""
+    from devkit.binding import native
+    os.environ[native.ENV_VAR] = str(library_path)
+    native.load(force_reload=True)
+    return native
 
 
 def read_png(path):

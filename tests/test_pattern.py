@@ -203,6 +203,24 @@ def test_human_woman_seams_match(woman_pattern):
     assert counts == {s["label"]: 2 for s in pattern.seams}
 
 
+def test_face_groups_stay_together(native):
+    # A noisy sheet must be split; triangles of one quad (a group) never part.
+    pos, tri = meshgen.plane(rows=14, cols=14, size=2.0)
+    pos = meshgen.add_noise(pos, 0.08, seed=31)
+    quads = np.arange(len(tri)) // 2  # grid_triangles emits the two triangles of a quad in a row
+    free = native.unfold(pos, tri, params={"scale": 0})
+    grouped = native.unfold(pos, tri, params={"scale": 0}, face_groups=quads)
+    assert free.stats["pieces"] > 1 and grouped.stats["pieces"] > 1
+    ids = grouped.piece_ids
+    assert (ids[0::2] == ids[1::2]).all()
+    assert (signed_areas(grouped.corner_uvs) > 0).all()
+    # No seam runs along a quad's diagonal.
+    diagonal = {tuple(sorted(set(tri[2 * q]) & set(tri[2 * q + 1]))) for q in range(len(tri) // 2)}
+    for seam in grouped.seams:
+        for a, b in seam["vertices"]:
+            assert tuple(sorted((a, b))) not in diagonal
+
+
 def test_seams_follow_pieces(native):
     # Two pieces of one cut band and two patches: each seam's sides are where it says.
     pos, tri, part = meshgen.cylinder_cone()

@@ -3,6 +3,7 @@
 
 Registration only; the parts live in their own modules:
   native      ctypes binding of the C++ engine (libdevelopable.so)
+  checks      the add-on's own checks and figures (numpy, no bpy)
   mesh_io     mesh <-> numpy buffers (foreach_get/foreach_set)
   properties  engine parameters, pins, per-object record of the last run
   operators   mesh.make_developable (synchronous execute, modal invoke)
@@ -28,14 +29,17 @@ bl_info = {
 
 if "bpy" in locals():  # script reload (F8 / addon_utils)
     import importlib
-    for _m in (native, mesh_io, properties, writeback, gauss_image, operators, panels, pattern):  # noqa: F821
+    for _m in (native, checks, mesh_io, properties, writeback, gauss_image, operators, panels,  # noqa: F821
+               pattern):  # noqa: F821
         importlib.reload(_m)
 
 import bpy  # noqa: E402
 
-from . import native, mesh_io, properties, writeback, gauss_image, operators, panels, pattern  # noqa: E402
+from . import (native, checks, mesh_io, properties, writeback, gauss_image, operators,  # noqa: E402
+               panels, pattern)
 
-_modules = (properties, operators, panels, pattern)  # pattern after panels: its sub-panel's parent
+# pattern after panels: its sub-panel's parent
+_modules = (properties, operators, panels, pattern, gauss_image)
 
 
 def register():

@@ -129,13 +129,94 @@ def _weight_tree(group_name, attr_name):
     return tree
 
 
-def face_normals(positions, triangles):
-    """Unit normals (t, 3) of triangles over positions (numpy, no bpy)."""
-    p = np.asarray(positions, dtype=np.float64)
-    t = np.asarray(triangles, dtype=np.int64)
-    if t.size == 0:
-        return np.zeros((0, 3))
-    n = np.cross(p[t[:, 1]] - p[t[:, 0]], p[t[:, 2]] - p[t[:, 0]])
-    length = np.linalg.norm(n, axis=1)
-    length[length == 0] = 1.0
-    return n / length[:, None]
+# ---------------------------------------------------------------------------
+# What the user sees: the shape key mix, in world space.
+
+class MeshInputError(Exception):
+    """The mesh cannot be read as the user sees it; the message says why."""
+
+
+def _key_co(kb):
+    a = np.empty(len(kb.data) * 3, dtype=np.float32)
+    kb.data.foreach_get("co", a)
+    return a.reshape(-1, 3).astype(np.float64)
+
+
+def read_visible_positions(obj, exclude=()):
+    """(reference coordinates, the shape key mix shown in the viewport) in
+    object space, float64 (n, 3). The keys named in `exclude` (the add-on's
+    own result) are left out of the mix. Without shape keys both are the
+    mesh's coordinates. Modifiers are not applied (the engine needs the mesh's
+    own vertices). Raises MeshInputError for absolute (non-relative) keys."""
+    mesh = obj.data
+    keys = mesh.shape_keys
+    base = read_positions(mesh)
+    if keys is None or len(keys.key_blocks) == 0:
+        return base, base
+    if not keys.use_relative:
+        raise MeshInputError(
+            "%s uses absolute shape keys (Relative is off), whose shape depends on the "
+            "frame: tick Relative in its Shape Keys panel, or apply the keys" % obj.name)
+    blocks = keys.key_blocks
+    reference = keys.reference_key
+    ref_co = _key_co(reference)
+    if obj.show_only_shape_key:  # the pin in the Shape Keys panel: only the active key shows
+        active = obj.active_shape_key
+        if active is None or active.name in exclude:
+            return ref_co, ref_co
+        return ref_co, _key_co(active)
+    mix = ref_co.copy()
+    cache = {reference.name: ref_co}
+    for kb in blocks:
+        if kb == reference or kb.name in exclude or kb.mute or kb.value == 0.0:
+            continue
+        rel = kb.relative_key
+        if rel.name not in cache:
+            cache[rel.name] = _key_co(rel)
+        delta = _key_co(kb) - cache[rel.name]
+        if kb.vertex_group:
+            weights = read_vertex_group(obj, kb.vertex_group).astype(np.float64)
+            delta *= weights[:, None]
+        mix += kb.value * delta
+    return ref_co, mix
+
+
+def linear_part(obj):
+    """The 3x3 linear part of the object's world matrix (no translation: the
+    figures do not depend on it and far-off objects keep their precision)."""
+    m = np.array(obj.matrix_world, dtype=np.float64)[:3, :3]
+    return m
+
+
+def read_polygons(mesh):
+    """(loop_start (p,), loop_total (p,), loop vertex indices (l,)) int32."""
+    p = len(mesh.polygons)
+    start = np.empty(p, dtype=np.int32)
+    total = np.empty(p, dtype=np.int32)
+    mesh.polygons.foreach_get("loop_start", start)
+    mesh.polygons.foreach_get("loop_total", total)
+    loops = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loops)
+    return start, total, loops
+
+
+def select_in_edit_mode(obj, vertices=(), edges=(), polygons=()):
+    """Enters Edit mode on `obj` (active, in Object mode) with exactly the given
+    vertices, edges (vertex pairs) and polygons selected, as the 3D-Print
+    Toolbox shows what is wrong. Only the bad elements are visited (few); the
+    rest is deselected in one call."""
+    import bmesh
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.select_all(action='DESELECT')
+    bm = bmesh.from_edit_mesh(obj.data)
+    bm.verts.ensure_lookup_table()
+    bm.faces.ensure_lookup_table()
+    for v in np.asarray(vertices, dtype=np.int64).reshape(-1)[:100000]:
+        bm.verts[int(v)].select = True
+    for a, b in np.asarray(edges, dtype=np.int64).reshape(-1, 2)[:100000]:
+        edge = bm.edges.get((bm.verts[int(a)], bm.verts[int(b)]))
+        if edge is not None:
+            edge.select = True
+    for p in np.asarray(polygons, dtype=np.int64).reshape(-1)[:100000]:
+        bm.faces[int(p)].select = True
+    bmesh.update_edit_mesh(obj.data)

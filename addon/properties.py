@@ -1,7 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Blender properties: the engine parameters (one property per dev_params
-field, shared by the operator and the panel's scene settings), the pin
-options, and the per-object record of the last run."""
+"""Blender properties: the settings of a run (one definition shared by the
+scene settings the panel shows and by the operator, so the button, the menu
+entry and Adjust Last Operation use the same values), the presets, and the
+per-object record of the last run.
+
+Labels are in the user's words; the paper's symbols are in the tooltips only.
+Parameters whose engine value has an "automatic" sentinel (0 or -1) get an
+"Automatic" switch instead of showing the bare number."""
 
 import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty,
@@ -11,33 +16,68 @@ from bpy.types import PropertyGroup
 from . import native
 
 # ---------------------------------------------------------------------------
-# Engine parameters. Defaults are those of dev_default_params (developable.h);
-# tests check the two agree.
+# Presets: a job in the user's words -> the settings it implies. Values not
+# named keep the "General" (engine default) value. Tuned on the generated test
+# meshes and docs/human-woman.md; see docs/addon.md.
+
+GENERAL = {
+    "move_limit": 5.0, "limit_in_edges": False, "tolerance": 10.0, "omega": 5.0,
+    "max_iterations": 400, "mode": 'REFIT', "solver": 'DECOUPLED', "pin_boundary": False,
+    "use_mls_weights": True, "stop_relative_change": 0.001, "developable_threshold": -10,
+    "segmentation": 'AUTO', "auto_target_patches": True, "auto_segment_max_error": True,
+    "seams": 'FREE', "auto_grid_resolution": True, "auto_target_smoothing": True,
+}
+PRESETS = {
+    'GENERAL': {},
+    'SHEET': {"segmentation": 'OFF', "move_limit": 2.0},
+    'GARMENT': {"segmentation": 'AUTO', "move_limit": 3.0},
+    'OBJECT': {"segmentation": 'ON', "move_limit": 1.0},
+    'PAPER': {"mode": 'PAPER', "solver": 'COUPLED', "limit_in_edges": True, "tolerance": 10.0,
+              "omega": 5.0, "pin_boundary": True, "seams": 'PINNED'},
+    'CUSTOM': None,  # set by hand: nothing to apply
+}
+PRESET_ITEMS = [
+    ('GENERAL', "General", "Automatic choices for any mesh; the shape may move 5 % of its size"),
+    ('SHEET', "Clean up a scanned sheet", "One piece (no splitting), for a noisy scan or a "
+     "sculpted panel that should become one smooth developable sheet; moves at most 2 % of the "
+     "size"),
+    ('GARMENT', "Garment / soft piece", "A cloth-like piece that may split where it curves "
+     "both ways; moves at most 3 % of the size"),
+    ('OBJECT', "Whole object into pieces", "A closed object (a character, a toy) split into "
+     "developable pieces that meet at seams; moves at most 1 % of the size"),
+    ('PAPER', "Paper's settings", "As in the paper: fixed targets, the coupled system, the "
+     "boundary and the seams pinned, limit 10 average edge lengths (E_allow = 10 AE, \u03c9 = 5)"),
+    ('CUSTOM', "Custom", "Settings changed by hand"),
+]
+
+# Engine fields whose sentinel means "automatic": name -> sentinel.
+AUTOMATIC = {"target_patches": 0, "segment_max_error": 0.0, "grid_resolution": 0,
+             "target_smoothing": -1}
 
 MODE_ITEMS = [
-    ("REFIT", "Refit", "Refit the ideal curve and the target normals from the deformed mesh "
-     "every iteration (more developable, default)", native.MODE_REFIT),
-    ("PAPER", "Paper", "As in the paper: one ideal curve and one set of target normals; the "
-     "11-row system W A^T A W is factored once", native.MODE_PAPER),
+    ("REFIT", "Refit Each Step", "Refit the ideal curve and the target normals from the deformed "
+     "mesh every iteration (more developable; default)", native.MODE_REFIT),
+    ("PAPER", "Fixed (Paper)", "As in the paper: one ideal curve and one set of target normals; "
+     "the system W A^T A W is factored once", native.MODE_PAPER),
 ]
 SEGMENTATION_ITEMS = [
-    ("AUTO", "Automatic", "Segment by curvature only when one ideal curve does not fit the "
-     "whole normal image", -1),
-    ("OFF", "Off", "One patch: one ideal curve for the whole mesh", 0),
-    ("ON", "On", "Always segment the mesh into patches by curvature (paper Fig. 1 a-b)", 1),
+    ("AUTO", "Automatic", "Split into pieces only when one ideal curve does not fit the whole "
+     "normal image", -1),
+    ("OFF", "One Piece", "Never split: one ideal curve for the whole mesh", 0),
+    ("ON", "Always Split", "Always split the mesh into pieces by curvature (paper Fig. 1 a-b)", 1),
 ]
 SEAMS_ITEMS = [
-    ("FREE", "Free", "One global solve; seams between patches move freely", native.SEAMS_FREE),
-    ("PINNED", "Pinned", "As in the paper: patch borders are pinned and the patches are "
+    ("FREE", "Seams Move", "One global solve; the seams between pieces move freely",
+     native.SEAMS_FREE),
+    ("PINNED", "Seams Pinned", "As in the paper: piece borders are pinned and the pieces are "
      "deformed one by one", native.SEAMS_PINNED),
 ]
-
 SOLVER_ITEMS = [
-    ("DECOUPLED", "Decoupled", "The normal rows go to the right-hand side: one n x n matrix shared by "
-     "x, y and z, factored once even when the target normals change (fast, default)",
-     native.SOLVER_DECOUPLED),
-    ("COUPLED", "Coupled", "The paper's 11 rows per triangle (Eq. 3-4) in one 3n x 3n system "
-     "W A^T A W x = W A^T c (Eq. 7), refactored when the targets change", native.SOLVER_COUPLED),
+    ("DECOUPLED", "Fast", "The normal rows go to the right-hand side: one n x n matrix shared by "
+     "x, y and z, factored once (default)", native.SOLVER_DECOUPLED),
+    ("COUPLED", "Coupled (Paper)", "The paper's 11 rows per triangle (Eq. 3-4) in one 3n x 3n "
+     "system W A^T A W x = W A^T c (Eq. 7), refactored when the targets change",
+     native.SOLVER_COUPLED),
 ]
 
 ENUM_VALUES = {
@@ -47,72 +87,103 @@ ENUM_VALUES = {
     "solver": {i[0]: i[3] for i in SOLVER_ITEMS},
 }
 
+_APPLYING = [False]  # a preset (or a copy of settings) is being applied
+
+
+def _mark_custom(self, context):
+    """A value changed by hand: the preset no longer describes the settings."""
+    if not _APPLYING[0] and self.preset != 'CUSTOM':
+        _APPLYING[0] = True
+        try:
+            self.preset = 'CUSTOM'
+        finally:
+            _APPLYING[0] = False
+
+
+def apply_preset(owner, preset):
+    values = PRESETS.get(preset)
+    if values is None:
+        return
+    _APPLYING[0] = True
+    try:
+        for name, value in dict(GENERAL, **values).items():
+            setattr(owner, name, value)
+    finally:
+        _APPLYING[0] = False
+
+
+def _preset_update(self, context):
+    if not _APPLYING[0]:
+        apply_preset(self, self.preset)
+
 
 def engine_property_definitions():
     """name -> a new bpy property, for every field of dev_params."""
+    u = _mark_custom
     return {
         "omega": FloatProperty(
-            name="Normal Weight (\u03c9)", default=5.0, min=1e-6, soft_min=0.1, soft_max=100.0,
-            description="\u03c9 of Eq. 2-3: weight of the rows n_ob\u00b7(v'j - v'1) = 0 that pull "
-            "each face towards its objective normal. Larger: more developable, more shape change"),
+            name="Flattening Strength", default=5.0, min=1e-6, soft_min=0.1, soft_max=100.0,
+            update=u, description="How hard each face is pulled towards its developable "
+            "direction: higher is more developable and moves the shape more (the paper's normal "
+            "weight \u03c9, Eq. 2-3)"),
         "tolerance": FloatProperty(
-            name="Tolerance (E_allow)", default=10.0, soft_min=0.0, soft_max=20.0,
-            description="E_allow: the largest distance a vertex may move, in multiples of the "
-            "average edge length AE (Table I: 0.02 keeps the shape, 10 is nearly free). "
-            "0 means no limit"),
+            name="Limit in Edge Lengths", default=10.0, min=0.0, soft_max=20.0, update=u,
+            description="The farthest a vertex may move, in average edge lengths (the paper's "
+            "E_allow in multiples of AE; Table I: 0.02 keeps the shape, 10 is nearly free; "
+            "0 = no limit). Used when 'Limit in Edge Lengths' is ticked"),
         "max_iterations": IntProperty(
-            name="Max Iterations", default=400, min=1, soft_max=1000,
-            description="MaxIter: the largest number of deformation iterations (runs usually "
-            "stop earlier, when the result stops improving)"),
+            name="Max Iterations", default=400, min=1, soft_max=1000, update=u,
+            description="The most deformation steps (MaxIter); runs usually stop earlier, when "
+            "the result stops improving"),
         "mode": EnumProperty(
-            name="Mode", items=MODE_ITEMS, default="REFIT",
-            description="How the objective normals are updated between iterations"),
+            name="Targets", items=MODE_ITEMS, default="REFIT", update=u,
+            description="How the target directions of the faces are updated between steps"),
         "pin_boundary": BoolProperty(
-            name="Pin Boundary", default=False,
-            description="Position constraints at every boundary vertex (as in the paper's "
-            "Fig. 3 and 4)"),
+            name="Pin Boundary", default=False, update=u,
+            description="Keep every boundary vertex where it is (position constraints, as in "
+            "the paper's Fig. 3 and 4)"),
         "use_mls_weights": BoolProperty(
-            name="MLS Weights", default=True,
-            description="Eq. 5: moving-least-squares weights 1/(min_dist(v, constraints)^2 + "
-            "\u03b5^2) around the pinned vertices (W of Eq. 6-7)"),
+            name="Soft Falloff Around Pins", default=True, update=u,
+            description="Vertices near pins move less (the paper's moving-least-squares "
+            "weights 1/(d^2 + \u03b5^2), Eq. 5)"),
         "stop_relative_change": FloatProperty(
-            name="Stop Change", default=1e-5, min=0.0, soft_max=0.01, precision=6,
-            description="\u0394C_max: stop when the mean |angle defect| changes by less than this "
-            "fraction between two iterations (paper: 0.001 % = 1e-5)"),
-        "developable_threshold": FloatProperty(
-            name="Developable Threshold", default=1e-10, min=0.0, soft_max=1e-3, precision=10,
-            description="Mean |angle defect| (rad) below which the mesh already counts as "
-            "developable and is returned unchanged"),
+            name="Stop Below Change", default=0.001, min=0.0, soft_max=1.0, precision=4,
+            subtype='PERCENTAGE', update=u,
+            description="Stop when the mean curvature changes by less than this between two "
+            "steps (the paper's \u0394C_max = 0.001 %)"),
+        "developable_threshold": IntProperty(
+            name="Flat Enough Below 10^", default=-10, min=-15, max=-1, update=u,
+            description="A mesh whose mean |angle defect| is below 10 to this power (rad) "
+            "already counts as developable and is returned unchanged (default -10: 1e-10 rad)"),
         "segmentation": EnumProperty(
-            name="Segmentation", items=SEGMENTATION_ITEMS, default="AUTO",
-            description="Curvature-based segmentation into patches, each with its own ideal "
-            "curve (paper Fig. 1, Fig. 5)"),
+            name="Pieces", items=SEGMENTATION_ITEMS, default="AUTO", update=u,
+            description="Split the mesh into pieces by curvature, each with its own ideal curve "
+            "(paper Fig. 1, Fig. 5)"),
         "target_patches": IntProperty(
-            name="Patches", default=0, min=0, soft_max=64,
-            description="Segmentation: the wanted number of patches; 0 = automatic"),
+            name="Number of Pieces", default=8, min=1, soft_max=64, update=u,
+            description="How many pieces to split into when not automatic"),
         "segment_max_error": FloatProperty(
-            name="Patch Max Error", default=0.0, min=0.0, soft_max=1.0, precision=4,
-            subtype="ANGLE",
-            description="Segmentation: the largest cone-fitting error allowed in one patch; "
-            "0 = the engine's default"),
+            name="Piece Fit Error", default=0.1, min=1e-4, soft_max=1.0, precision=3,
+            subtype="ANGLE", update=u,
+            description="The largest cone-fitting error allowed in one piece when not automatic"),
         "seams": EnumProperty(
-            name="Seams", items=SEAMS_ITEMS, default="FREE",
-            description="How the borders between patches are treated"),
+            name="Seams", items=SEAMS_ITEMS, default="FREE", update=u,
+            description="How the borders between pieces are treated"),
         "grid_resolution": IntProperty(
-            name="Grid Resolution", default=0, min=0, soft_max=512,
-            description="Cells per side of the radial effect field (Eq. 1) in which the "
-            "skeleton of the normal image is found; 0 = automatic, 2 sqrt(faces of the patch) "
-            "from 32 to 128"),
+            name="Curve Search Grid", default=64, min=8, soft_max=512, update=u,
+            description="Cells per side of the grid in which the ideal curve is searched (the "
+            "radial effect field of Eq. 1) when not automatic; automatic: 2 sqrt(faces of the "
+            "piece), from 32 to 128"),
         "solver": EnumProperty(
-            name="Solver", items=SOLVER_ITEMS, default="DECOUPLED",
-            description="How the normal rows enter the linear system (Paper mode always uses "
-            "the coupled system)"),
+            name="Solver", items=SOLVER_ITEMS, default="DECOUPLED", update=u,
+            description="How the linear system is built (Fixed targets always use the coupled "
+            "system)"),
         "target_smoothing": IntProperty(
-            name="Target Smoothing", default=-1, min=-1, max=100, soft_max=5,
-            description="Rounds of averaging each face's objective normal with those of its "
-            "neighbours in the same patch, so that a doubly curved patch follows a smooth "
-            "target instead of crumpling; -1 = automatic (Refit mode: 1 on a segmented mesh; "
-            "on one patch 0, then 1 if the run stalls with much curvature left)"),
+            name="Target Smoothing", default=1, min=0, max=100, soft_max=5, update=u,
+            description="Rounds of averaging each face's target direction with its neighbours' "
+            "in the same piece, so that a piece curved both ways follows a smooth target instead "
+            "of crumpling. Automatic: one round on a split mesh; on one piece none, then one if "
+            "the run stalls with much curvature left"),
     }
 
 
@@ -120,25 +191,84 @@ def pin_property_definitions():
     return {
         "pin_group": StringProperty(
             name="Pin Group", default="",
-            description="Vertex group whose vertices (weight > 0) are pinned: position "
-            "constraints of Eq. 5-6"),
+            description="Vertex group whose vertices (weight > 0) stay where they are "
+            "(position constraints of Eq. 5-6)"),
         "pin_selection": BoolProperty(
             name="Pin Selection", default=True,
-            description="In Edit mode, the selected vertices are pinned too"),
+            description="In Edit mode, the selected vertices stay where they are too"),
         "gauss_image": BoolProperty(
             name="Gauss Image", default=False,
             description="After the run, build the Gauss image beside the object: a unit sphere, "
-            "the face normals before and after as points, and the ideal curves"),
+            "the face normals before and after as dots, and the ideal curves"),
     }
+
+
+def extra_property_definitions():
+    """The user-level settings that are not dev_params fields."""
+    u = _mark_custom
+    defs = {
+        "preset": EnumProperty(
+            name="Job", items=PRESET_ITEMS, default='GENERAL', update=_preset_update,
+            description="What the mesh is for: sets the settings below together"),
+        "move_limit": FloatProperty(
+            name="Shape May Move", default=5.0, min=0.0, soft_min=0.1, soft_max=20.0,
+            max=100.0, precision=1, subtype='PERCENTAGE', update=u,
+            description="How far the shape may move: the farthest any vertex may go, in % of the "
+            "object's size (its bounding-box diagonal). 0 = no limit"),
+        "limit_in_edges": BoolProperty(
+            name="Limit in Edge Lengths", default=False, update=u,
+            description="Set the limit in average edge lengths (the paper's E_allow) instead of "
+            "'Shape May Move'"),
+    }
+    for name in AUTOMATIC:
+        defs["auto_" + name] = BoolProperty(
+            name="Automatic", default=True, update=u,
+            description="Let the engine choose (untick to set the value)")
+    return defs
+
+
+def all_property_definitions():
+    return dict(engine_property_definitions(), **pin_property_definitions(),
+                **extra_property_definitions())
 
 
 ENGINE_PARAMETERS = tuple(engine_property_definitions().keys())
 PIN_PARAMETERS = tuple(pin_property_definitions().keys())
+EXTRA_PARAMETERS = tuple(extra_property_definitions().keys())
+# Copy order: the preset first (it sets the others), then everything else.
+SETTINGS = ("preset",) + ENGINE_PARAMETERS + PIN_PARAMETERS + tuple(
+    n for n in EXTRA_PARAMETERS if n != "preset")
 assert set(ENGINE_PARAMETERS) == set(native.PARAM_NAMES), "a dev_params field has no property"
 
 
-def engine_values(owner):
-    """dict for native.run from an object holding the engine properties."""
+def copy_settings(source, target, names=SETTINGS):
+    """Copies settings between the scene settings and an operator, leaving the
+    preset as it was at the source (no preset is re-applied on the way)."""
+    _APPLYING[0] = True
+    try:
+        for name in names:
+            value = getattr(source, name)
+            if getattr(target, name) != value:
+                setattr(target, name, value)
+    finally:
+        _APPLYING[0] = False
+
+
+def set_quietly(owner, values):
+    """Sets values without turning the preset into Custom."""
+    _APPLYING[0] = True
+    try:
+        for name, value in values.items():
+            setattr(owner, name, value)
+    finally:
+        _APPLYING[0] = False
+
+
+def engine_values(owner, size=None, average_edge=None):
+    """dict for native.run from an object holding the settings. size (the
+    diagonal) and average_edge convert 'Shape May Move' into the engine's
+    tolerance in average edge lengths; without them the tolerance is taken
+    as it is."""
     values = {}
     for name in ENGINE_PARAMETERS:
         value = getattr(owner, name)
@@ -147,14 +277,22 @@ def engine_values(owner):
         elif isinstance(value, bool):
             value = int(value)
         values[name] = value
+    for name, sentinel in AUTOMATIC.items():
+        if getattr(owner, "auto_" + name):
+            values[name] = sentinel
+    values["stop_relative_change"] = owner.stop_relative_change / 100.0
+    values["developable_threshold"] = 10.0 ** owner.developable_threshold
+    if not owner.limit_in_edges and size is not None and average_edge:
+        values["tolerance"] = owner.move_limit / 100.0 * size / average_edge
     return values
 
 
 # ---------------------------------------------------------------------------
-# Scene settings shown by the panel (the Run button copies them into the operator).
+# Scene settings shown by the panel (the operator reads them for every value
+# the caller did not set).
 
 class DEVELOPABLE_PG_settings(PropertyGroup):
-    __annotations__ = dict(engine_property_definitions(), **pin_property_definitions())
+    __annotations__ = all_property_definitions()
 
 
 def _show_after_update(self, context):
@@ -172,26 +310,49 @@ def _gauss_visible_update(self, context):
 class DEVELOPABLE_PG_result(PropertyGroup):
     """The last run on this object (stored in the .blend)."""
     has_result: BoolProperty(name="Has Result", default=False)
-    e_before: FloatProperty(name="E before", precision=6,
+    e_before: FloatProperty(name="Mean curvature before", precision=6,
                             description="E_before: mean |angle defect| over interior vertices (rad)")
-    e_after: FloatProperty(name="E after", precision=6,
+    e_after: FloatProperty(name="Mean curvature after", precision=6,
                            description="E_after: mean |angle defect| after the deformation (rad)")
     max_before: FloatProperty(name="Max defect before", precision=6)
     max_after: FloatProperty(name="Max defect after", precision=6)
-    change_percent: FloatProperty(name="dE %", precision=2,
+    change_percent: FloatProperty(name="Change %", precision=2,
                                   description="\u0394E = 100 (E_after - E_before) / E_before")
+    flat_before: FloatProperty(name="Flat before", precision=4, subtype='FACTOR',
+                               description="Share of interior vertices with |angle defect| < "
+                               "1e-3 rad before the run")
+    flat_after: FloatProperty(name="Flat after", precision=4, subtype='FACTOR',
+                              description="The same share after the run")
+    faces_turned: IntProperty(name="Faces turned over",
+                              description="Faces whose normal turned by more than 90 degrees "
+                              "(not counting faces already turned in the input)")
+    move_percent: FloatProperty(name="Largest move %", precision=3,
+                                description="Largest distance a vertex moved, in % of the "
+                                "object's size (bounding-box diagonal, world space)")
+    size: FloatProperty(name="Size", precision=5,
+                        description="Bounding-box diagonal of the input (world space)")
     time_ms: FloatProperty(name="Time (ms)", precision=1, description="t_T: total engine time")
     time_decompose_ms: FloatProperty(name="t_D (ms)", precision=1)
     time_iterate_ms: FloatProperty(name="t_I (ms)", precision=1)
     iterations: IntProperty(name="Iterations")
     stop_reason: StringProperty(name="Stopped")
     max_move: FloatProperty(name="Largest move", precision=5,
-                            description="Largest distance a vertex moved (object units)")
+                            description="Largest distance a vertex moved (world units)")
     average_edge: FloatProperty(name="AE", precision=5, description="Average edge length")
     max_move_ae: FloatProperty(name="Largest move / AE", precision=3)
-    patches: IntProperty(name="Patches")
+    patches: IntProperty(name="Pieces")
     curves: IntProperty(name="Curves")
     pinned: IntProperty(name="Pinned vertices")
+    verdict: EnumProperty(
+        name="Verdict", default='IMPROVED',
+        items=[('IMPROVED', "Improved", "The mesh is more developable and no figure got worse"),
+               ('WORSE', "Worse", "A figure got worse: the key is left at 0"),
+               ('UNCHANGED', "Unchanged", "Nothing changed")])
+    message: StringProperty(name="Message", description="What the run said, in words")
+    engine_result: StringProperty(name="Engine check",
+                                  description="The engine's own result check, as it is")
+    world_space: BoolProperty(name="World space", default=False,
+                              description="The object's scale was taken into account")
     colour_scale: FloatProperty(
         name="Colour scale", precision=6,
         description="Angle defect (rad) shown as full red (+) / full blue (-) in both colour "
@@ -202,6 +363,9 @@ class DEVELOPABLE_PG_result(PropertyGroup):
     show_gauss_image: BoolProperty(
         name="Show Gauss Image", default=True, update=_gauss_visible_update,
         description="Show or hide this object's Gauss image objects")
+    gauss_collection: PointerProperty(
+        name="Gauss Image", type=bpy.types.Collection,
+        description="The collection holding this object's Gauss image")
 
 
 classes = (DEVELOPABLE_PG_settings, DEVELOPABLE_PG_result)

@@ -51,9 +51,11 @@ def defect_colours(defect, interior, scale):
     return rgba
 
 
-def write_shape_key(obj, positions):
+def write_shape_key(obj, positions, value=1.0):
     """Sets the coordinates of the "Developable" key (Basis added when the mesh has
-    no keys). A re-run overwrites the same key."""
+    no keys), relative to the reference key. `positions` are the key's own
+    coordinates (operators.py makes them so that the shown mix at value 1 is
+    the result). A re-run overwrites the same key."""
     mesh = obj.data
     if mesh.shape_keys is None or len(mesh.shape_keys.key_blocks) == 0:
         obj.shape_key_add(name=BASIS, from_mix=False)
@@ -63,7 +65,8 @@ def write_shape_key(obj, positions):
     key.relative_key = mesh.shape_keys.reference_key
     key.data.foreach_set("co", np.ascontiguousarray(positions, dtype=np.float32).reshape(-1))
     key.slider_min = min(key.slider_min, 0.0)
-    key.value = 1.0
+    key.mute = False
+    key.value = value
     mesh.update()
     return key
 
@@ -130,7 +133,8 @@ def use_attribute_shading(context):
                     space.shading.color_type = 'VERTEX'
 
 
-def store_stats(obj, result, scale, pinned_count):
+def store_stats(obj, result, scale, pinned_count, figures, verdict, message, engine_result,
+                world_space):
     s = result.stats
     rec = obj.developable
     rec.has_result = True
@@ -152,14 +156,23 @@ def store_stats(obj, result, scale, pinned_count):
     rec.curves = int(s["curves"])
     rec.pinned = int(pinned_count)
     rec.colour_scale = scale
+    rec.flat_before = figures["flat_before"]
+    rec.flat_after = figures["flat_after"]
+    rec.faces_turned = figures["faces_turned"]
+    rec.move_percent = figures["move_percent"]
+    rec.size = figures["size"]
+    rec.verdict = verdict
+    rec.message = message[:1000]
+    rec.engine_result = engine_result
+    rec.world_space = world_space
 
 
-def write_result(obj, buffers, result, pinned_count):
-    """Everything at once (the object must be in Object mode)."""
+def write_result(obj, key_positions, tri_polygon, n_polygons, result, key_value):
+    """The key, the attributes and the colours (the object must be in Object
+    mode). Returns the colour scale; the figures are stored by store_stats."""
     mesh = obj.data
-    write_shape_key(obj, result.positions)
-    scale = write_attributes(mesh, result, buffers.tri_polygon, buffers.n_polygons)
-    store_stats(obj, result, scale, pinned_count)
+    write_shape_key(obj, key_positions, key_value)
+    scale = write_attributes(mesh, result, tri_polygon, n_polygons)
     rec = obj.developable
     if not rec.show_after:
         rec.show_after = True  # the update callback shows "after"

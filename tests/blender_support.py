@@ -1,10 +1,17 @@
 """Helpers and fixtures for the add-on tests (tests/test_addon_*.py).
 
 The add-on is tested as a user gets it: the zip from the addon_zip target is
-installed with bpy.ops.preferences.addon_install into a private user folder
-(BLENDER_USER_SCRIPTS / BLENDER_USER_CONFIG under pytest's tmp), and every
-test starts the real Blender (--background --factory-startup) on a scenario of
-tests/blender_scripts/scenarios.py, which prints RESULT {json} lines."""
+installed into a private user folder under pytest's tmp, and every test starts
+a real Blender on a scenario of tests/blender_scripts/scenarios.py, which
+prints RESULT {json} lines.
+
+Blenders: Debian's `blender` (3.4; the zip installed as a legacy add-on with
+bpy.ops.preferences.addon_install, run with --background --factory-startup)
+and the `bpy` wheels that scripts/setup_bpy.sh put in
+$DEVELOPABLE_BPY_CACHE (default ~/.cache/developable/bpy-<line>; the zip
+installed as an extension with bpy.ops.extensions.package_install_files into
+BLENDER_USER_RESOURCES, run through blender_scripts/bpy_main.py). The
+`any_blender_env` fixture runs a test on each of them."""
 import json
 import os
 import pathlib
@@ -20,6 +27,24 @@ MODULE = "developable_mesh"
 BLENDER = shutil.which("blender")
 
 
+BPY_MAIN = SCRIPTS / "bpy_main.py"
+BPY_CACHE = pathlib.Path(os.environ.get("DEVELOPABLE_BPY_CACHE",
+                                        pathlib.Path.home() / ".cache" / "developable"))
+MODULE_PYTHON = "DEVELOPABLE_TEST_BPY_PYTHON"  # env key: run this bpy module's Python
+
+
+def module_blenders():
+    """{line: python of its venv} for the bpy environments that installed fully."""
+    found = {}
+    for env in sorted(BPY_CACHE.glob("bpy-*")):
+        if list(env.glob(".installed-*")) and (env / "bin" / "python").exists():
+            found[env.name[len("bpy-"):]] = env / "bin" / "python"
+    return found
+
+
+BLENDER_NAMES = (["3.4"] if BLENDER else []) + sorted(module_blenders())
+
+
 def blender_base_env():
     env = dict(os.environ)
     env.pop("DEVELOPABLE_LIBRARY", None)  # the library must come from the zip
@@ -28,7 +53,11 @@ def blender_base_env():
 
 def run_blender(args, env, timeout=300, xvfb=False, check=True):
     cmd = [BLENDER, "--background", "--factory-startup", "--python-exit-code", "1"] + list(args)
-    if xvfb:
+    if env.get(MODULE_PYTHON):
+        if xvfb:
+            pytest.skip("Blender as a Python module has no window")
+        cmd = [env[MODULE_PYTHON], str(BPY_MAIN)] + [str(a) for a in args]
+    elif xvfb:
         cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", BLENDER, "--factory-startup",
                "--python-exit-code", "1"] + list(args)
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
@@ -79,6 +108,52 @@ def install_zip(zip_path, root):
             "bpy.ops.preferences.addon_enable(module=%r)\n"
             "bpy.ops.wm.save_userpref()\n" % MODULE)
     run_blender(["--python-expr", code, "--", str(zip_path)], env)
+    return env
+
+
+def install_extension(zip_path, root, python):
+    """Installs the zip as an extension (4.2+) of the bpy module at `python`
+    into a private BLENDER_USER_RESOURCES; returns the env."""
+    env = blender_base_env()
+    env["BLENDER_USER_RESOURCES"] = str(root)
+    env[MODULE_PYTHON] = str(python)
+    root.mkdir(parents=True, exist_ok=True)
+    code = ("import bpy, sys\n"
+            "r = bpy.ops.extensions.package_install_files(filepath=sys.argv[-1], "
+            "repo='user_default', enable_on_install=True)\n"
+            "assert r == {'FINISHED'}, r\n"
+            "assert hasattr(bpy.types, 'MESH_OT_make_developable')\n"
+            "import os, sys; sys.stdout.flush(); os._exit(0)  # see bpy_main.py\n")
+    proc = subprocess.run([str(python), "-c", code, str(zip_path)], env=env,
+                          capture_output=True, text=True, timeout=300)
+    if proc.returncode != 0:
+        raise AssertionError("extension install failed\n%s\n%s" % (proc.stdout[-4000:],
+                                                                      proc.stderr[-4000:]))
+    return env
+
+
+def validate_manifest(zip_path, python):
+    """That Blender's own extension validator (bl_pkg's blender_ext.py validate)
+    on the zip: (return code, output)."""
+    found = list(pathlib.Path(python).parent.parent.glob(
+        "lib/python3*/site-packages/bpy/*/scripts/addons_core/bl_pkg/cli/blender_ext.py"))
+    if not found:
+        return None, "no blender_ext.py"
+    proc = subprocess.run([str(python), str(found[0]), "validate", str(zip_path)],
+                          capture_output=True, text=True, timeout=120)
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+@pytest.fixture(scope="session", params=BLENDER_NAMES)
+def any_blender_env(request, build_dir, tmp_path_factory):
+    """The env of one Blender under test with the zip installed (each in turn)."""
+    zip_path = build_addon_zip(build_dir)
+    root = tmp_path_factory.mktemp("blender_%s" % request.param)
+    if request.param == "3.4":
+        env = install_zip(zip_path, root)
+    else:
+        env = install_extension(zip_path, root, module_blenders()[request.param])
+    env["DEVELOPABLE_TEST_BLENDER_NAME"] = request.param
     return env
 
 

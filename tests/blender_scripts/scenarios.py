@@ -28,8 +28,12 @@ def emit(d):
 
 
 def enable():
-    mod = addon_utils.enable(MODULE, default_set=True)
-    assert mod is not None, "add-on %s could not be enabled" % MODULE
+    """The add-on under its installed name: developable_mesh (legacy add-on) or
+    bl_ext.<repository>.developable_mesh (4.2+ extension)."""
+    names = [m.__name__ for m in addon_utils.modules()
+             if m.__name__.split(".")[-1] == MODULE] or [MODULE]
+    mod = addon_utils.enable(names[0], default_set=True)
+    assert mod is not None, "add-on %s could not be enabled" % names[0]
     return mod
 
 

@@ -1,0 +1,176 @@
+"""The add-on as its users meet it, on every Blender under test (Debian's 3.4
+and the bpy wheels of scripts/setup_bpy.sh, 4.2 LTS and the newest): presets,
+warnings, one set of settings, shape keys, scale, several objects, shared
+meshes, errors that select what is wrong, the Gauss image, the headless
+one-liner. Scenarios: tests/blender_scripts/user_scenarios.py."""
+import subprocess
+
+import pytest
+
+from blender_support import (BLENDER, BPY_MAIN, MODULE_PYTHON, SCRIPTS, any_blender_env,  # noqa: F401
+                             results, run_blender)
+
+USER = SCRIPTS / "user_scenarios.py"
+
+
+def user_scenario(env, name):
+    proc = run_blender(["--python", str(USER), "--", name], env, timeout=600)
+    out = results(proc)
+    assert out, "scenario %s printed no RESULT\n%s\n%s" % (name, proc.stdout[-5000:],
+                                                          proc.stderr[-3000:])
+    assert "traceback" not in proc.stderr.lower(), proc.stderr[-4000:]
+    return out[-1], proc
+
+
+def test_presets_set_their_values(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "presets")
+    for key in ("GENERAL", "SHEET", "GARMENT", "OBJECT", "PAPER"):
+        assert r[key]["preset"] == key
+        assert r[key]["mismatch"] == {}, (key, r[key]["mismatch"])
+    assert r["after_edit"] == "CUSTOM"
+    s = r["script_preset"]
+    assert s["result"] == ["FINISHED"], s["error"]
+    assert s["patches"] > 1           # 'Whole object into pieces' always splits
+    assert s["scene_preset_kept"] == "GENERAL"   # a script call does not rewrite the sidebar
+
+
+def test_a_worse_result_is_a_warning_and_left_off(any_blender_env):
+    r, proc = user_scenario(any_blender_env, "worse")
+    rec = r["record"]
+    assert rec["has_result"], r
+    assert rec["verdict"] in ("WORSE", "UNCHANGED"), rec
+    if rec["e_after"] > rec["e_before"]:
+        assert rec["verdict"] == "WORSE" and "curvature grew" in rec["message"]
+    assert "Try" in rec["message"]
+    if rec["verdict"] == "WORSE":
+        assert r["key_value"] == 0.0
+    assert "warning" in (proc.stdout + proc.stderr).lower()
+
+
+def test_a_better_result_is_reported_in_the_users_terms(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "better")
+    rec = r["record"]
+    assert r["result"] == ["FINISHED"], r["error"]
+    assert rec["verdict"] == "IMPROVED", rec["message"]
+    assert rec["flat_after"] > rec["flat_before"]
+    assert rec["faces_turned"] == 0
+    assert 0 < rec["move_percent"] <= 5.0 + 1e-6   # the General job: at most 5 % of the size
+    assert "flat" in rec["message"] and "% of its size" in rec["message"]
+    assert r["key_value"] == 1.0
+
+
+def test_the_menu_entry_uses_the_panels_values(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "menu_uses_panel")
+    assert r["result"] == ["FINISHED"], r["error"]
+    # the menu entry sets no value: the operator takes them all from the sidebar
+    assert [[op, set(kw) - {"icon", "text"}] for op, kw in r["menu"]] == \
+        [["mesh.make_developable", set()]]
+    assert r["iterations"] <= 3
+    assert r["patches"] == 1
+    assert r["move_percent"] <= 0.5 + 1e-6
+    assert r["scene_after"] == [3, 0.5, "OFF"]
+
+
+def test_an_extra_shape_key_gives_the_figures_of_what_is_shown(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "shape_key")
+    assert r["result"] == ["FINISHED"], r["error"]
+    rec = r["record"]
+    assert r["keys"] == ["Basis", "Bulge", "Developable"]
+    assert r["shown_before"] > 10 * r["basis_defect"]      # the bulge is what is curved
+    assert rec["e_before"] == pytest.approx(r["shown_before"], rel=1e-3)
+    assert r["shown_at_zero"] == pytest.approx(r["shown_before"], rel=1e-4)
+    assert rec["e_after"] == pytest.approx(r["shown_at_one"], rel=2e-3, abs=1e-6)
+    assert r["shown_at_one"] < r["shown_before"]
+
+
+def test_a_scaled_object_gets_world_space_figures(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "scaled")
+    assert r["result"] == ["FINISHED"], r["error"]
+    rec = r["record"]
+    assert abs(r["world_defect"] - r["local_defect"]) > 0.1 * r["local_defect"]
+    assert rec["e_before"] == pytest.approx(r["world_defect"], rel=1e-3)
+    assert rec["e_after"] == pytest.approx(r["world_after"], rel=2e-3, abs=1e-6)
+    assert rec["world_space"]
+
+
+def test_a_non_manifold_mesh_selects_its_bad_edge_in_edit_mode(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "non_manifold")
+    assert r["result"] == ["CANCELLED"]
+    assert "NON_MANIFOLD" in r["error"] and "Selected in Edit mode" in r["error"], r["error"]
+    assert "near (" in r["error"]
+    assert r["mode"] == "EDIT" and r["active"] == "fin"
+    assert r["selected_edges"] == [r["bad_edge"]]
+    assert not r["keys"] and not r["has_result"]
+
+
+def test_a_triangle_on_a_quad_is_accepted_as_validate_does(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "shared_triangle")
+    assert not r["validate_changed"]
+    assert r["result"] == ["FINISHED"], r["error"]
+    assert "ignored" in r["message"]
+
+
+def test_several_objects_run_in_turn_and_shared_meshes_are_named(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "several")
+    assert r["result"] == ["FINISHED"], r["error"]
+    assert r["has_result"] == {"a": True, "b": True, "c": True}
+    assert "shared with c" in r["message_a"]
+
+
+def test_the_gauss_image_is_legible_and_follows_its_object(any_blender_env):
+    r, _ = user_scenario(any_blender_env, "gauss")
+    assert r["result"] == [["FINISHED"], ["FINISHED"]], r["error"]
+    assert r["found_after_rename"]
+    assert r["gauss_collections"] == ["Gauss Image: renamed"]
+    assert r["faces"] > 2000 and max(r["cloud_sizes"]) <= 2000
+    assert all(r["dot_colour_attributes"]) and len(r["dot_colour_attributes"]) >= 3
+    assert len(r["legend"]) == 3
+
+
+ONE_LINER = ("import bpy; bpy.ops.mesh.make_developable(); bpy.ops.wm.save_mainfile()")
+
+
+def _one_liner(env, blend):
+    """The README's headless line, on this Blender."""
+    if env.get(MODULE_PYTHON):
+        cmd = [env[MODULE_PYTHON], str(BPY_MAIN), str(blend), "--python-expr", ONE_LINER]
+    else:
+        cmd = [BLENDER, "-b", str(blend), "--python-exit-code", "1", "--python-expr", ONE_LINER]
+    return subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+
+
+def _save(env, blend, kind):
+    code = ("import bpy, sys, numpy as np\n"
+            "sys.path.insert(0, %r)\n"
+            "sys.argv = ['x']\n"
+            "import user_scenarios as u\n"
+            "u.clear()\n"
+            "if %r == 'good':\n"
+            "    u.make_object('sheet', *u.noisy_sheet())\n"
+            "else:\n"
+            "    v, f = u.noisy_sheet(nu=8, nv=6)\n"
+            "    v = np.vstack([v, [[0, 1, 2]]])\n"
+            "    u.make_object('fin', v, list(map(tuple, f)) + [(9, 10, len(v) - 1)])\n"
+            "bpy.ops.wm.save_as_mainfile(filepath=%r)\n" % (str(SCRIPTS), kind, str(blend)))
+    run_blender(["--python-expr", code], env)
+
+
+def test_the_headless_one_liner_saves_and_fails_loudly(any_blender_env, tmp_path):
+    good, bad = tmp_path / "good.blend", tmp_path / "bad.blend"
+    _save(any_blender_env, good, "good")
+    _save(any_blender_env, bad, "bad")
+    before = bad.read_bytes()
+    proc = _one_liner(any_blender_env, good)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    check = run_blender([str(good), "--python-expr",
+                         "import bpy, addon_utils; "
+                         "[addon_utils.enable(m.__name__) for m in addon_utils.modules() "
+                         "if m.__name__.endswith('developable_mesh')]; "
+                         "ob = bpy.data.objects['sheet']; "
+                         "print('KEYS', [k.name for k in ob.data.shape_keys.key_blocks], "
+                         "ob.developable.has_result)"], any_blender_env)
+    assert "KEYS ['Basis', 'Developable'] True" in check.stdout
+    proc = _one_liner(any_blender_env, bad)
+    assert proc.returncode != 0
+    assert "NON_MANIFOLD" in proc.stdout + proc.stderr
+    assert bad.read_bytes() == before  # nothing saved over the user's file

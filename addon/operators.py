@@ -395,6 +395,13 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
             text = _error_text(exc)
             if isinstance(exc, native.EngineError) and obj is not None:
                 text = text.replace("the mesh", obj.name, 1)
+                if exc.status == 13 and "Merge by Distance" not in text:
+                    # the shown shape (a key mix) parted vertices that the mesh itself
+                    # has in one place: the engine cannot see that the mesh is a soup
+                    same = len(target.reference) - len(np.unique(target.reference, axis=0))
+                    if same:
+                        text += ("; %d vertices of the mesh share a position with another "
+                                 "(a polygon soup?): weld them first (Merge by Distance)" % same)
             return {'ERROR'}, text
         if obj is None or obj.type != 'MESH' or len(obj.data.vertices) != job.buffers.n_vertices:
             return {'ERROR'}, "%s changed during the run; nothing was written" % target.name
@@ -412,7 +419,7 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
                 fig[ours] = s[theirs]
         engine_result = ""
         if "result" in s:
-            engine_result = {0: "improved", 1: "unchanged"}.get(s["result"], str(s["result"]))
+            engine_result = native.RESULT_NAMES.get(s["result"], str(s["result"]))
             if s.get("result_message"):
                 engine_result += ": " + s["result_message"]
         level, verdict, message = _verdict(obj.name, s, fig)

@@ -10,7 +10,8 @@ BUILD=${DEVELOPABLE_BUILD_DIR:-$REPO/build}
 # Debian packages the build, the add-on and the tests need.
 packages=(cmake g++ make libeigen3-dev libopenmesh-dev libgtest-dev python3-pytest python3-numpy python3-scipy blender xvfb xauth zip
           clang libclang-rt-14-dev  # clang: the fuzz run and fuzz_replay (tests/test_hardening*.py)
-          librsvg2-bin)             # rsvg-convert: the pattern SVGs rasterised (tests/test_pattern*.py, docs)
+          librsvg2-bin              # rsvg-convert: the pattern SVGs rasterised (tests/test_pattern*.py, docs)
+          python3-venv)             # the test Blenders' virtual environments (setup_bpy.sh)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -25,3 +26,9 @@ fi
 
 cmake -S "$REPO" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$BUILD" --parallel "$(nproc)" >&2
+
+# The test-only Blenders (bpy wheels from PyPI, 4.2 LTS and the newest line) in
+# cached virtual environments outside the clone; DEVELOPABLE_NO_BPY=1 skips them.
+if [ "${DEVELOPABLE_NO_BPY:-0}" != "1" ]; then
+  bash "$REPO/scripts/setup_bpy.sh"
+fi

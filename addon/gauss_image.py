@@ -172,10 +172,10 @@ def build(obj, base_positions, deformed_positions, triangles, curves):
     for i, (text, rgba) in enumerate(LEGEND):
         font = bpy.data.curves.new("%s Gauss Legend %d" % (obj.name, i), 'FONT')
         font.body = text
-        font.size = 0.12
+        font.size = 0.16
         font.materials.append(_material("Gauss Legend %d" % i, rgba))
         label = _new_object(coll, "%s Gauss Legend %d" % (obj.name, i), font, root, rgba)
-        label.location = (-1.0, 0.0, -1.25 - 0.17 * i)
+        label.location = (-1.0, 0.0, -1.3 - 0.22 * i)
         label.rotation_euler = (np.pi / 2, 0.0, 0.0)  # faces the default front view (-y)
     obj.developable.show_gauss_image = True
     return coll

@@ -8,7 +8,8 @@ IN   .obj / .ply / .stl / .blend, or demo:cone_band / demo:half_cylinder
 OUT  .blend (the object with the "Developable" shape key, the defect colours and
      attributes) or .obj / .ply / .stl (the deformed mesh: shape key applied)
 
-Every engine parameter is an option (--omega 5 --tolerance 10 --mode PAPER
+Every setting of the add-on is an option (--preset OBJECT --move-limit 2
+--omega 5 --tolerance 10 --mode PAPER
 --pin-boundary --no-use-mls-weights ...); see --help. Also --pin-group NAME,
 --object NAME (which object of a .blend), --gauss-image, --render PREFIX
 (writes PREFIX_before.png and PREFIX_after.png: Workbench, defect colours),
@@ -240,7 +241,7 @@ def build_parser(addon):
                    help="what one Blender unit is (default: the scene's unit scale)")
     p.add_argument("--seam-tolerance", type=float, default=None, metavar="PERCENT",
                    help="largest stretch of a piece's outline edge before it is split")
-    defs = dict(props.engine_property_definitions(), **props.pin_property_definitions())
+    defs = props.all_property_definitions()
     for name, prop in defs.items():
         kw = prop.keywords if hasattr(prop, "keywords") else prop[1]
         flag = "--" + name.replace("_", "-")
@@ -329,7 +330,8 @@ def main():
     rec = ob.developable
     summary.update({k: getattr(rec, k) for k in (
         "e_before", "e_after", "change_percent", "time_ms", "iterations", "max_move",
-        "patches", "curves", "pinned", "colour_scale", "stop_reason")})
+        "patches", "curves", "pinned", "colour_scale", "stop_reason", "flat_before", "flat_after",
+        "move_percent", "faces_turned", "verdict", "message", "engine_result")})
     if args.pattern:
         summary["pattern"] = unfold_pattern(ob, args)
         if "error" in summary["pattern"]:

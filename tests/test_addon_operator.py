@@ -1,5 +1,6 @@
-"""mesh.make_developable in a real Blender (--background --factory-startup),
-with the add-on installed from the zip."""
+"""mesh.make_developable in a real Blender, with the add-on installed from the zip:
+the runs on every Blender under test (any_blender_env: 3.4 and the bpy wheels),
+the missing/mismatched library on Debian's 3.4."""
 import pathlib
 import re
 import shutil
@@ -7,12 +8,13 @@ import subprocess
 
 import pytest
 
-from blender_support import (MODULE, addon_zip, blender_env, install_zip,  # noqa: F401
+from blender_support import (MODULE, addon_zip, any_blender_env, blender_env,  # noqa: F401
+                             install_zip,
                              installed_addon_dir, scenario)
 
 
-def test_noisy_mesh_gets_a_more_developable_shape_key(blender_env):
-    r = scenario(blender_env, "run")
+def test_noisy_mesh_gets_a_more_developable_shape_key(any_blender_env):
+    r = scenario(any_blender_env, "run")
     assert r["result"] == ["FINISHED"], r["error"]
     assert r["state"]["keys"] == ["Basis", "Developable"]
     assert r["base_unchanged"]
@@ -37,8 +39,8 @@ def test_noisy_mesh_gets_a_more_developable_shape_key(blender_env):
     assert 0 <= r["patch_domain"][3] <= r["patch_domain"][4] < max(1, r["stats"]["patches"])
 
 
-def test_rerun_replaces_the_one_shape_key(blender_env):
-    r = scenario(blender_env, "rerun")
+def test_rerun_replaces_the_one_shape_key(any_blender_env):
+    r = scenario(any_blender_env, "rerun")
     assert r["results"] == [["FINISHED"]] * 3
     assert r["keys"] == ["Basis", "Developable"]
     assert r["base_unchanged"]
@@ -47,8 +49,8 @@ def test_rerun_replaces_the_one_shape_key(blender_env):
 
 
 @pytest.mark.parametrize("cancel_after", [0, 3])
-def test_cancel_leaves_nothing_behind(blender_env, cancel_after):
-    r = scenario(blender_env, "cancel", cancel_after)
+def test_cancel_leaves_nothing_behind(any_blender_env, cancel_after):
+    r = scenario(any_blender_env, "cancel", cancel_after)
     assert r["result"] == ["CANCELLED"]
     assert r["last_run"]["status"] == "CANCELLED"
     assert r["state_after"] == r["state_before"]
@@ -56,8 +58,8 @@ def test_cancel_leaves_nothing_behind(blender_env, cancel_after):
     assert r["base_unchanged"]
 
 
-def test_pins_hold(blender_env):
-    r = scenario(blender_env, "pins")
+def test_pins_hold(any_blender_env):
+    r = scenario(any_blender_env, "pins")
     for kind in ("group", "boundary", "selection"):
         assert r[kind]["result"] == ["FINISHED"], (kind, r[kind]["error"])
         assert r[kind]["pinned_move"] < 1e-6, kind
@@ -76,8 +78,8 @@ EXPECTED = {
 }
 
 
-def test_bad_meshes_are_reported_and_untouched(blender_env):
-    r = scenario(blender_env, "bad")
+def test_bad_meshes_are_reported_and_untouched(any_blender_env):
+    r = scenario(any_blender_env, "bad")
     for kind, status in EXPECTED.items():
         case = r[kind]
         assert case["result"] == ["CANCELLED"], kind

@@ -7,8 +7,8 @@ import zipfile
 
 import pytest
 
-from blender_support import (MODULE, REPO, addon_zip, blender_env,  # noqa: F401
-                             installed_addon_dir, scenario)
+from blender_support import (MODULE, REPO, addon_zip, any_blender_env, blender_env,  # noqa: F401
+                             installed_addon_dir, module_blenders, scenario, validate_manifest)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -152,3 +152,22 @@ def test_ctypes_binding_matches_the_header():
     abi = int(re.search(r"#define DEV_ABI_VERSION (\d+)",
                         (REPO / "native" / "developable.h").read_text()).group(1))
     assert native.ABI_VERSION == abi
+
+
+@pytest.mark.parametrize("line", sorted(module_blenders()) or
+                         [pytest.param("none", marks=pytest.mark.skip("no bpy wheel installed"))])
+def test_zip_passes_that_blenders_own_extension_validator(addon_zip, line):
+    code, out = validate_manifest(addon_zip, module_blenders()[line])
+    assert code == 0, out
+    assert "error" not in out.lower(), out
+
+
+def test_zip_installs_and_enables_on_every_blender(any_blender_env):
+    """3.4: the legacy add-on path; 4.2+: the extensions path (bl_ext.user_default.*)."""
+    r = scenario(any_blender_env, "install")
+    assert r["has_operator"] and not r["library_error"] and r["version"]
+    if any_blender_env["DEVELOPABLE_TEST_BLENDER_NAME"] == "3.4":
+        assert r["module"] == MODULE
+    else:
+        assert r["module"] == "bl_ext.user_default." + MODULE, r["module"]
+        assert "/extensions/user_default/%s/" % MODULE in r["library"], r["library"]

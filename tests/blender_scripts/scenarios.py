@@ -159,7 +159,9 @@ def state(ob):
     me = ob.data
     return {
         "keys": [k.name for k in me.shape_keys.key_blocks] if me.shape_keys else [],
-        "attributes": sorted(a.name for a in me.attributes if not a.name.startswith(".")),
+        # built-in ones ("position" on 4.x: is_required) are not the add-on's
+        "attributes": sorted(a.name for a in me.attributes if not a.name.startswith(".")
+                             and not getattr(a, "is_required", False)),
         "has_result": bool(ob.developable.has_result),
         "collections": sorted(c.name for c in bpy.data.collections),
         "vertices": len(me.vertices),
@@ -191,7 +193,9 @@ def s_install():
         "library": native.library_path(),
         "library_error": err,
         "version": native.version() if lib else "",
-        "bl_info": {k: list(v) if isinstance(v, tuple) else v for k, v in PKG.bl_info.items()},
+        # an extension (4.2+) is described by its manifest; Blender drops bl_info then
+        "bl_info": {k: list(v) if isinstance(v, tuple) else v
+                    for k, v in getattr(PKG, "bl_info", {}).items()},
         "param_names": list(native.PARAM_NAMES),
         "operator_properties": [p.identifier for p in op_props],
         "defaults": defaults,
@@ -298,9 +302,13 @@ def s_pins():
     base = coords(ob.data).copy()
     sel = np.zeros(len(base), dtype=bool)
     sel[[100, 200, 250, 333, 444, 555]] = True
-    ob.data.vertices.foreach_set("select", sel)
-    ob.data.edges.foreach_set("select", np.zeros(len(ob.data.edges), dtype=bool))
-    ob.data.polygons.foreach_set("select", np.zeros(len(ob.data.polygons), dtype=bool))
+    # deselect all, then select six vertices one by one: foreach_set("select") on a
+    # mesh that has no selection attribute yet crashes Blender 5.0
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.select_all(action='DESELECT')
+    bpy.ops.object.mode_set(mode='OBJECT')
+    for i in np.nonzero(sel)[0]:
+        ob.data.vertices[int(i)].select = True
     bpy.ops.object.mode_set(mode='EDIT')
     res, err = run_op(pin_selection=True)
     mode_after = ob.mode

@@ -303,14 +303,17 @@ def _declare(lib):
     lib.dev_pattern_svg_file.argtypes = [_result_p, ctypes.c_int64, ctypes.c_char_p, ctypes.c_int64]
 
 
-def load(force_reload=False):
-    """Returns the loaded library (ctypes.CDLL); raises LibraryError with advice."""
+def load(force_reload=False, path=None):
+    """Returns the loaded library (ctypes.CDLL); raises LibraryError with advice.
+    path: load this file instead of searching (a development or sanitizer
+    build); a later load() without a path returns it."""
     global _library, _library_path
+    wanted = None if path is None else str(path)
     with _lock:
-        if _library is not None and not force_reload:
+        if _library is not None and not force_reload and wanted in (None, _library_path):
             return _library
         tried = []
-        for path in candidate_paths():
+        for path in [wanted] if wanted else candidate_paths():
             if not os.path.isfile(path):
                 tried.append("%s (not found)" % path)
                 continue

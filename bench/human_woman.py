@@ -21,8 +21,6 @@ before/after). --blender picks the Blender binary
 (default: blender); --no-render keeps the PNGs already there. About one
 minute on 2 cores."""
 import argparse
-import ctypes
-import os
 import pathlib
 import subprocess
 import sys
@@ -33,11 +31,13 @@ import numpy as np
 
 HERE = pathlib.Path(__file__).resolve().parent
 REPO = HERE.parent
-sys.path.insert(0, str(REPO / "tests"))
+sys.path.insert(0, str(REPO))  # devkit
 
-import engine as engine_module  # noqa: E402
-import geometry  # noqa: E402
-import meshgen  # noqa: E402
+from devkit.binding import enum_name, native  # noqa: E402
+from devkit.distance import bbox_diagonal, sampled_hausdorff  # noqa: E402
+from devkit.machine import machine_info  # noqa: E402
+from devkit.obj import read_obj  # noqa: E402
+from devkit.paths import MESHES  # noqa: E402
 
 PICTURES = ("patches", "defect-before", "defect-after", "closeup")
 FLAT = 1e-3  # rad: an interior vertex with |defect| below this counts as flat
@@ -65,49 +65,20 @@ def log(message):
 # ---------------------------------------------------------------- machine
 
 def machine(library):
-    cpu = "unknown"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    lib = ctypes.CDLL(str(library))
-    lib.dev_version_string.restype = ctypes.c_char_p
-    lib.dev_abi_version.restype = ctypes.c_int32
-
-    def git(where, *args):
-        return subprocess.run(["git", "-C", str(where)] + list(args), capture_output=True,
-                              text=True).stdout.strip()
-
-    # The commit of the source the library was built from (CMakeCache), which
-    # need not be this checkout.
-    source = REPO
-    cache = pathlib.Path(library).parent.parent / "CMakeCache.txt"
-    if cache.exists():
-        for line in cache.read_text().splitlines():
-            if line.startswith("CMAKE_HOME_DIRECTORY:"):
-                source = pathlib.Path(line.split("=", 1)[1])
-    commit = git(source, "rev-parse", "--short", "HEAD") or "unknown (%s)" % source
-    if git(source, "status", "--porcelain", "--", "native"):
-        commit += " + uncommitted native/ changes"
-    return {"cpu": cpu, "cores": os.cpu_count(), "version": lib.dev_version_string().decode(),
-            "abi": lib.dev_abi_version(), "commit": commit,
-            "date": time.strftime("%Y-%m-%d %H:%M %Z"), "load": "%.1f %.1f %.1f" % os.getloadavg()}
+    info = machine_info(build_dir=pathlib.Path(library).parent.parent, library=library)
+    return {"cpu": info["cpu"], "cores": info["cores"], "version": info["engine_version"],
+            "abi": info["abi_version"], "commit": info["commit"], "date": info["date"],
+            "load": info["load_start"]}
 
 
 def describe_defaults(params):
-    names = {v: k for k, v in engine_module.MODES.items()}
-    solvers = {v: k for k, v in engine_module.SOLVERS.items()}
-    seams = {v: k for k, v in engine_module.SEAMS.items()}
-    smoothing = params.target_smoothing
-    return {"mode": names.get(params.mode, params.mode),
-            "solver": solvers.get(params.solver, params.solver),
-            "seams": seams.get(params.seams, params.seams), "omega": params.omega,
-            "max_iterations": params.max_iterations,
+    smoothing = params["target_smoothing"]
+    return {"mode": enum_name("mode", params["mode"]),
+            "solver": enum_name("solver", params["solver"]),
+            "seams": enum_name("seams", params["seams"]), "omega": params["omega"],
+            "max_iterations": params["max_iterations"],
             "target_smoothing": "automatic" if smoothing < 0 else ("on" if smoothing else "off"),
-            "use_mls_weights": "on" if params.use_mls_weights else "off"}
+            "use_mls_weights": "on" if params["use_mls_weights"] else "off"}
 
 
 # ---------------------------------------------------------------- measures
@@ -160,7 +131,7 @@ def measure(label, positions, triangles, result):
     interior = result.interior
     inside = interior & ~seam_vertices(len(positions), triangles, result.patch_ids)
     before, after = np.abs(result.defect_before), np.abs(result.defect_after)
-    diagonal = geometry.bbox_diagonal(positions)
+    diagonal = bbox_diagonal(positions)
     moves = np.linalg.norm(result.positions - positions, axis=1)
     fa, fb = edge_faces(len(positions), triangles)
     turn = np.einsum("ij,ij->i", face_normals(positions, triangles),
@@ -178,14 +149,14 @@ def measure(label, positions, triangles, result):
         "total_after": float(result.defect_after[interior].sum()),
         "seam_share_before": float(before[interior & ~inside].sum() / before[interior].sum()),
         "seam_share_after": float(after[interior & ~inside].sum() / after[interior].sum()),
-        "hausdorff": geometry.hausdorff(positions, triangles, result.positions, triangles) / diagonal,
+        "hausdorff": sampled_hausdorff(positions, triangles, result.positions, triangles) / diagonal,
         "move_ae": float(moves.max() / s["average_edge_length"]),
         "turned": float(np.mean(turn < 0.0)),
         "median_turn": float(np.degrees(np.median(np.arccos(np.clip(turn, -1.0, 1.0))))),
         "folded_before": folded_share(positions, triangles, fa, fb),
         "folded_after": folded_share(result.positions, triangles, fa, fb),
         "max_before": float(before[interior].max()), "max_after": float(after[interior].max()),
-        "iterations": int(s["iterations"]), "stop": s["stop_reason"],
+        "iterations": int(s["iterations"]), "stop": native.STOP_REASONS[s["stop_reason"]],
         "t_d": s["time_decompose_ms"], "t_i": s["time_iterate_ms"], "t_t": s["time_total_ms"],
     }
 
@@ -231,12 +202,12 @@ def write_report(path, info, runs, patches, mesh_name, pictures):
         "by hand.")
     add("")
     add("- Mesh: `%s`, %d vertices, %d faces, closed (all %d vertices are interior), read "
-        "with `tests/meshgen.py`." % (mesh_name, goal["v"], goal["f"], goal["interior"]))
+        "with `devkit/obj.py`." % (mesh_name, goal["v"], goal["f"], goal["interior"]))
     add("- Machine: %s, %d cores (a shared VM; load average at the start %s). Engine %s "
         "(C ABI %d), commit %s; %s." % (info["cpu"], info["cores"], info["load"],
                                          info["version"], info["abi"], info["commit"],
                                          info["date"]))
-    add("- Two runs through the C ABI (`tests/engine.py`). Apart from the settings named, "
+    add("- Two runs through the C ABI (`addon/native.py`). Apart from the settings named, "
         "every parameter is the engine's default: %s mode, %s solver, ω = %g, %s seams, "
         "target smoothing %s, at most %d iterations, MLS weights %s."
         % (d["mode"], d["solver"], d["omega"], d["seams"], d["target_smoothing"],
@@ -248,8 +219,9 @@ def write_report(path, info, runs, patches, mesh_name, pictures):
         "(E_after − E_before) / E_before. *Flat*: share of the interior vertices with "
         "|defect| < 1e-3 rad. *Median inside*: median |defect| over the interior vertices "
         "that are not on a seam (a seam vertex has faces in two or more patches). "
-        "Hausdorff: exact symmetric distance (`tests/geometry.py`) over the bounding-box "
-        "diagonal. Largest move: the farthest any vertex went, in AE (the tolerance bounds "
+        "Hausdorff: symmetric distance from the vertices, edge midpoints and face centroids "
+        "of each mesh to the exact surface of the other (`devkit/distance.py`), over the "
+        "bounding-box diagonal. Largest move: the farthest any vertex went, in AE (the tolerance bounds "
         "it). Times in ms, wall clock, for the whole run: t_D builds and factors the normal "
         "matrix, t_I is the iterations, t_T the whole call (it also holds the input checks, "
         "the segmentation and the first ideal curves).")
@@ -421,7 +393,7 @@ def shrink(path):
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--build", default=str(REPO / "build"), help="build folder (default build/)")
-    p.add_argument("--meshes", default=str(REPO.parent / "shared" / "meshes"),
+    p.add_argument("--meshes", default=str(MESHES),
                    help="folder holding human_woman.obj (default ../shared/meshes)")
     p.add_argument("--out", default=str(REPO / "docs"), help="output folder (default docs/)")
     p.add_argument("--blender", default="blender", help="Blender binary (default blender)")
@@ -433,15 +405,15 @@ def main():
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     info = machine(library)
-    engine = engine_module.Engine(str(library))
-    positions, triangles = meshgen.read_obj(mesh)
+    native.load(path=library)
+    positions, triangles = read_obj(mesh)
     info["height"] = float(positions[:, 1].max() - positions[:, 1].min())
-    info["defaults"] = describe_defaults(engine.params())
+    info["defaults"] = describe_defaults(native.default_params())
 
     runs, results = [], []
     for label, _, params in RUNS:
         log("run: %s" % label)
-        result = engine.run(positions, triangles, **params)
+        result = native.run(positions, triangles, params=params)
         results.append(result)
         runs.append(measure(label, positions, triangles, result))
         r = runs[-1]

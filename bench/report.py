@@ -4,6 +4,8 @@ import pathlib
 
 import numpy as np
 
+from devkit.meshes import FAMILY_TITLES
+
 # The paper's Tables I and II (its machine: Intel Core 2, 2.13 GHz, 2 GB; times in ms).
 PAPER = {
     "curved_cone": {
@@ -15,8 +17,6 @@ PAPER = {
         "rows": {(0.33, 5.0): (4.86e-3, -0.99, 9.88, 14.18, 24.06),
                  (10.0, 5.0): (8.03e-4, -67.8, 10.23, 1.39, 11.62)}},
 }
-FAMILY_TITLES = {"cylinder": "noisy cylinder", "cone": "noisy cone",
-                 "gcone": "generalized cone, wavy rulings"}
 VARIANTS = ["refit, seg auto", "paper, seg auto", "refit, seg on", "refit, seg off"]
 
 
@@ -485,9 +485,9 @@ def write(data, out):
            "other tools' outputs). **dE %**: 100 (E_after − E_before) / E_before of the mean.",
            "- **flat**: fraction of interior vertices with |δ| < 1e-3 rad, before → after.",
            "- **H/diag**: two-sided Hausdorff distance between input and output over the input's "
-           "bounding-box diagonal; exact point-to-triangle distances from the vertices, edge "
-           "midpoints and centroids of each mesh to the other surface (bench/hausdorff.py: "
-           "uniform grid, same samples as tests/geometry.py).",
+           "bounding-box diagonal, sampled: exact point-to-triangle distances from the "
+           "vertices, edge midpoints and centroids of each mesh to the other surface "
+           "(devkit/distance.py, uniform grid).",
            "- **move/AE**: largest vertex move over AE. **it / stop**: iterations and why they "
            "stopped. **patches**: segmentation patches.",
            "- **t_D, t_I, t_T**: the engine's own timers (dev_stats): system build + "
@@ -499,8 +499,8 @@ def write(data, out):
            "input arrays are included. **run +MiB**: that peak minus the resident size just "
            "before `dev_run` (what the run itself added).", ""]
     md += ["## Real meshes", "",
-           "The paper's two models, generated (tests/meshgen.py `curved_cone()`, "
-           "bench/meshes.py `skirt()`), and the meshes of /work/shared/meshes (sources and "
+           "The paper's two models, generated (devkit/meshes.py `curved_cone()` and "
+           "`skirt()`), and the meshes of ../shared/meshes (sources and "
            "licences in its README; CC BY meshes: odedstein/meshes), all with the defaults "
            "(refit mode, automatic segmentation, E_allow 10 AE, omega 5, no pins).", "",
            table(MESH_HEADER, mesh_rows([r for r in rows if r["section"] == "real"])), ""]
@@ -509,7 +509,7 @@ def write(data, out):
            "*noisy cylinder*: radius 1, height π, uniform noise of 0.03 grid spacings on every "
            "coordinate; *noisy cone*: frustum radius 1.5 → 0.6, the same noise; *generalized "
            "cone, wavy rulings*: pleated directrix r(θ) = 1 + 0.08 sin 8θ, rulings bent by "
-           "0.02 sin 2πu (bench/meshes.py). Big cases run once.", "",
+           "0.02 sin 2πu (devkit/meshes.py). Big cases run once.", "",
            table(MESH_HEADER, mesh_rows([r for r in rows if r["section"] == "scaling"],
                                         lambda r: FAMILY_TITLES[r["family"]])), ""]
     if "bench-scaling.png" in images:
@@ -542,9 +542,9 @@ def write(data, out):
     md += ["## The paper's Tables I and II", "",
            "Boundary pinned, E_allow in {0.02, 0.33, 10} AE × omega in {5, 15}, in the paper's "
            "mode (`mode='paper'`: one set of targets, the 11-row system factored once) and in our "
-           "default refit mode. The curved cone is tests/meshgen.py `curved_cone()`; the skirt "
+           "default refit mode. The curved cone is devkit/meshes.py `curved_cone()`; the skirt "
            "is a stand-in built to the paper's counts (an open, slit, pleated generalized cone "
-           "with one bulge along its rulings, bench/meshes.py `skirt()`): the paper's meshes are "
+           "with one bulge along its rulings, devkit/meshes.py `skirt()`): the paper's meshes are "
            "not published, so only the trends compare, not the digits. The paper's times are in "
            "ms on a 2.13 GHz Core 2. Its Table II's second row repeats Table I's numbers "
            "(8.03e-4, −67.8 %), probably a copy slip in the paper.", "",

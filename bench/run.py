@@ -12,12 +12,9 @@ Every case runs in its own subprocess (bench/worker.py) so that its peak
 memory is its own; the cases run one after another so that they do not share
 the two cores. Build first: cmake -S . -B build && cmake --build build -j2."""
 import argparse
-import ctypes
-import datetime
 import json
 import os
 import pathlib
-import platform
 import subprocess
 import sys
 import tempfile
@@ -26,10 +23,13 @@ import time
 HERE = pathlib.Path(__file__).resolve().parent
 REPO = HERE.parent
 sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(REPO))  # devkit
 
 import report  # noqa: E402
-
-SHARED = pathlib.Path("/work/shared/meshes")
+from devkit import meshes  # noqa: E402
+from devkit.machine import load_average, machine_info  # noqa: E402
+from devkit.obj import write_obj  # noqa: E402
+from devkit.paths import MESHES as SHARED  # noqa: E402
 SIZES = [1_000, 10_000, 100_000, 1_000_000]
 FAMILIES = ["cylinder", "cone", "gcone"]
 E_ALLOW = [0.02, 0.33, 10.0]
@@ -39,54 +39,6 @@ QUICK_SHARED = ["cube_no_bottom.obj"]
 
 def log(message):
     print("[bench %s] %s" % (time.strftime("%H:%M:%S"), message), flush=True)
-
-
-# ---------------------------------------------------------------- machine
-
-def machine_info(library, build_dir):
-    info = {"date": datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")}
-    cpu = "unknown"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    info["cpu"] = cpu
-    info["cores"] = os.cpu_count()
-    try:
-        kib = int(next(l for l in open("/proc/meminfo") if l.startswith("MemTotal")).split()[1])
-        info["memory_gib"] = round(kib / 1024 ** 2, 1)
-    except (OSError, StopIteration):
-        info["memory_gib"] = None
-    info["os"] = "%s %s" % (platform.system(), platform.release())
-    info["load_start"] = "%.1f %.1f %.1f" % os.getloadavg()
-    info["python"] = platform.python_version()
-    try:
-        lib = ctypes.CDLL(str(library))
-        lib.dev_version_string.restype = ctypes.c_char_p
-        lib.dev_abi_version.restype = ctypes.c_int32
-        info["engine_version"] = lib.dev_version_string().decode()
-        info["abi_version"] = lib.dev_abi_version()
-    except OSError as error:
-        info["engine_version"] = "unloadable: %s" % error
-    try:
-        commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
-                                capture_output=True, text=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--", "native"],
-                               capture_output=True, text=True).stdout.strip()
-        info["commit"] = commit + (" + uncommitted native/ changes" if dirty else "")
-    except OSError:
-        info["commit"] = "unknown"
-    build_type = "unknown"
-    cache = pathlib.Path(build_dir) / "CMakeCache.txt"
-    if cache.exists():
-        for line in cache.read_text().splitlines():
-            if line.startswith("CMAKE_BUILD_TYPE:"):
-                build_type = line.split("=", 1)[1]
-    info["build_type"] = build_type
-    return info
 
 
 # ---------------------------------------------------------------- cases
@@ -193,8 +145,6 @@ def run_case(case, library, timeout):
 
 def run_profiles(args, workdir):
     import profile as callgrind
-    import meshes
-    import worker
     if not callgrind.available():
         return {"skipped": "valgrind or callgrind_annotate not found"}
     build_dir = pathlib.Path(tempfile.gettempdir()) / "developable-bench-profile-build"
@@ -213,7 +163,7 @@ def run_profiles(args, workdir):
         positions, triangles = meshes.load(spec)
         with tempfile.TemporaryDirectory(prefix="bench-profile-") as tmp:
             obj = pathlib.Path(tmp) / "mesh.obj"
-            worker.write_obj(obj, positions, triangles)
+            write_obj(obj, positions, triangles)
             t0 = time.perf_counter()
             try:
                 result = callgrind.profile(tool, obj, extra)
@@ -283,7 +233,7 @@ def main(argv=None):
             previous[row["key"]] = row
 
     started = time.perf_counter()
-    info = machine_info(library, build_dir)
+    info = machine_info(build_dir=build_dir, library=library)
     log("engine %s, commit %s, %s" % (info.get("engine_version"), info.get("commit"), info["cpu"]))
     cases = plan(args)
     rows = []
@@ -310,7 +260,7 @@ def main(argv=None):
     profiles = None
     if not args.no_profile:
         profiles = run_profiles(args, out)
-    info["load_end"] = "%.1f %.1f %.1f" % os.getloadavg()
+    info["load_end"] = load_average()
     info["bench_minutes"] = round((time.perf_counter() - started) / 60.0, 1)
     command = "/usr/bin/python3 bench/run.py" + (" --quick" if args.quick else "")
     if args.compare:

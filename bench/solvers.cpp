@@ -2,7 +2,7 @@
 // driven by bench/solvers.py, which writes docs/solvers.md).
 //
 // Input: mesh sizes in faces on the command line. For each, a closed noisy
-// cylinder band like bench/meshes.py's noisy_cylinder (radius 1, height pi,
+// cylinder band like devkit/meshes.py's noisy_cylinder (radius 1, height pi,
 // rows - 1 = cols / 2, cols^2 faces, uniform noise of 0.03 grid spacings;
 // own random numbers, so not the same noise as numpy's, but the decoupled
 // matrix depends only on the triangles). NormalGuidedDeformation is set up as
@@ -58,7 +58,7 @@ struct Band {
   Triangles triangles;
 };
 
-// The closed band of bench/meshes.py noisy_cylinder (same triangles in the
+// The closed band of devkit/meshes.py noisy_cylinder (same triangles in the
 // same order as its grid_triangles(rows, cols, wrap=True)).
 Band noisy_cylinder(long faces) {
   int cols = std::max(8, static_cast<int>(std::lround(std::sqrt(static_cast<double>(faces)))));

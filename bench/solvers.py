@@ -12,15 +12,16 @@ docs/solvers.md.
 Needs CHOLMOD (Debian: apt-get install libsuitesparse-dev; libmetis-dev adds
 the METIS rows); exits with status 2 and says so when it is missing."""
 import argparse
-import datetime
 import json
 import os
 import pathlib
-import platform
 import subprocess
 import sys
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))  # devkit
+
+from devkit.machine import commit, machine_info  # noqa: E402
 SIZES = [10_000, 100_000, 1_000_000]
 SOLVES_PER_RUN = 50  # the refit loop's typical iterations: one 3-column solve each
 SOLVERS = {
@@ -114,21 +115,14 @@ def blas(binary):
 
 
 def machine(binary, versions):
-    cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo")
-                if line.startswith("model name")), "unknown")
-    kib = int(next(line for line in open("/proc/meminfo") if line.startswith("MemTotal")).split()[1])
-    commit = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip()
-    built_from = ["native", "bench/solvers.cpp", "CMakeLists.txt"]
-    dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--"] + built_from,
-                           capture_output=True, text=True).stdout.strip()
+    info = machine_info()
     return {
-        "date": datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"),
-        "cpu": "%s, %d cores" % (cpu, os.cpu_count()),
-        "memory": "%.1f GiB" % (kib / 1024 ** 2),
-        "os": "%s %s" % (platform.system(), platform.release()),
-        "load": "%.1f %.1f %.1f" % os.getloadavg(),
-        "commit": commit + (" + uncommitted changes to " + ", ".join(built_from) if dirty else ""),
+        "date": info["date"],
+        "cpu": "%s, %d cores" % (info["cpu"], info["cores"]),
+        "memory": "%.1f GiB" % info["memory_gib"],
+        "os": info["os"],
+        "load": info["load_start"],
+        "commit": commit(paths=("native", "bench/solvers.cpp", "CMakeLists.txt")),
         "compiler": versions["compiler"],
         "libraries": "Eigen %s, CHOLMOD %s, METIS %s" % (versions["eigen"], versions["cholmod"],
                                                           versions["metis"]),
@@ -211,7 +205,7 @@ def write(path, info, rows, quick):
           "side columns (x, y, z) at every iteration, 30 to 60 of them on typical meshes. This "
           "page measures the engine's sparse Cholesky against CHOLMOD (SuiteSparse) through "
           "Eigen's CholmodSupport, on the engine's own matrix: closed noisy cylinder bands "
-          "(rows - 1 = cols / 2, as bench/meshes.py `noisy_cylinder`) set up exactly as the refit "
+          "(rows - 1 = cols / 2, as devkit/meshes.py `noisy_cylinder`) set up exactly as the refit "
           "pipeline does (lambda = 0.3, omega = 5, no pins), and the right-hand side of its first "
           "iteration.", "",
           "Columns: *analyse* is the symbolic analysis (fill-reducing ordering, elimination tree), "

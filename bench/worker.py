@@ -3,7 +3,7 @@ own) and prints one JSON object on stdout.
 
     python3 bench/worker.py '<json case>'
 
-case: {"mesh": {...} (see meshes.load), "params": {engine dev_params fields},
+case: {"mesh": {...} (see devkit.meshes.load), "params": {engine dev_params fields},
        "library": path to libdevelopable.so, "compare": null | "COMMAND {in} {out}",
        "hausdorff": true}"""
 import json
@@ -22,10 +22,12 @@ import numpy as np
 
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(HERE.parent / "tests"))
-import hausdorff  # noqa: E402
-import meshes  # noqa: E402
+sys.path.insert(0, str(HERE.parent))  # devkit
 import metrics  # noqa: E402
+from devkit import meshes  # noqa: E402
+from devkit.binding import native, params_from_names  # noqa: E402
+from devkit.distance import bbox_diagonal, sampled_hausdorff  # noqa: E402
+from devkit.obj import read_obj, write_obj  # noqa: E402
 
 
 def status_kib(field):
@@ -46,32 +48,24 @@ def reset_peak():
         return False
 
 
-def write_obj(path, positions, triangles):
-    with open(path, "w") as f:
-        np.savetxt(f, positions, fmt="v %.17g %.17g %.17g")
-        np.savetxt(f, triangles + 1, fmt="f %d %d %d")
-
-
 def run_engine(case, positions, triangles):
-    import engine as engine_module
-    eng = engine_module.Engine(case["library"])
+    native.load(path=case["library"])
     marks = []
 
-    def progress(fraction, stage, user):
-        name = stage.decode() if stage else ""
-        if not marks or marks[-1][1] != name:
-            marks.append((time.perf_counter(), name))
-        return 1
+    def progress(fraction, stage):
+        if not marks or marks[-1][1] != stage:
+            marks.append((time.perf_counter(), stage))
+        return True
 
     pinned = None
-    params = dict(case.get("params", {}))
+    params = params_from_names(case.get("params", {}))
     rss0 = status_kib("VmRSS")
     peak_reset = reset_peak()
     cpu0 = resource.getrusage(resource.RUSAGE_SELF)
     t0 = time.perf_counter()
     try:
-        result = eng.run(positions, triangles, pinned=pinned, progress=progress, **params)
-    except engine_module.EngineError as error:
+        result = native.run(positions, triangles, pinned=pinned, params=params, progress=progress)
+    except native.EngineError as error:
         return {"error": str(error)}
     wall = time.perf_counter() - t0
     cpu1 = resource.getrusage(resource.RUSAGE_SELF)
@@ -88,7 +82,8 @@ def run_engine(case, positions, triangles):
                          for k, v in s.items()},
         "t_D": s["time_decompose_ms"], "t_I": s["time_iterate_ms"], "t_T": s["time_total_ms"],
         "wall_ms": 1000.0 * wall, "cpu_ms": 1000.0 * cpu, "rss_before_mib": rss0 / 1024.0, "peak_mib": peak / 1024.0,
-        "iterations": s["iterations"], "stop_reason": s["stop_reason"], "patches": s["patches"],
+        "iterations": s["iterations"], "stop_reason": native.STOP_REASONS[s["stop_reason"]],
+        "patches": s["patches"],
         "stages_ms": stages,
     }
 
@@ -114,7 +109,7 @@ def run_compare(case, positions, triangles):
             peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss  # upper bound
         if proc.returncode != 0 or not os.path.exists(dst):
             return {"error": "exit %d: %s" % (proc.returncode, err.decode(errors="replace")[-300:])}
-        out_pos, out_tri = meshes.meshgen.read_obj(dst)
+        out_pos, out_tri = read_obj(dst)
     return {"out_positions": out_pos, "out_triangles": out_tri, "t_T": 1000.0 * wall,
             "wall_ms": 1000.0 * wall, "peak_mib": peak / 1024.0}
 
@@ -143,12 +138,12 @@ def main():
     })
     row["dE"] = 100.0 * (after["mean"] - before["mean"]) / before["mean"] if before["mean"] else 0.0
     row["out_v"], row["out_f"] = int(len(out_pos)), int(len(out_tri))
-    diag = float(np.linalg.norm(positions.max(0) - positions.min(0)))
+    diag = bbox_diagonal(positions)
     row["max_move"] = float(np.linalg.norm(out_pos - positions, axis=1).max()) \
         if len(out_pos) == len(positions) else None
     if case.get("hausdorff", True):
         t1 = time.perf_counter()
-        row["hausdorff"] = hausdorff.hausdorff(positions, triangles, out_pos, out_tri) / diag
+        row["hausdorff"] = sampled_hausdorff(positions, triangles, out_pos, out_tri) / diag
         row["hausdorff_seconds"] = time.perf_counter() - t1
     print(json.dumps(row))
 

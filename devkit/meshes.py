@@ -117,6 +117,54 @@ def cylinder_cone(rows_each=8, cols=40, radius=1.0, height=1.0, apex_height=1.2)
     return pos, tris, piece
 
 
+def curved_fold(seed=0, rows=13, cols=41):
+    """An exact discrete curved fold: a generalized cylinder (a wavy curve in
+    the xz-plane swept along y) whose part beyond an oblique plane is mirrored
+    across it. Strips between two rulings are planar and the mirror is an
+    isometry, so the mesh is intrinsically flat; the crease, where the plane
+    meets the rulings, is a curve through mesh vertices. The seed picks the
+    wave and the plane."""
+    rng = np.random.default_rng(seed)
+    amplitude = rng.uniform(0.15, 0.35)
+    waves = rng.uniform(0.7, 1.4)
+    tilt = rng.uniform(0.3, 0.8)
+    x = np.linspace(0.0, 2.0, cols)
+    z = amplitude * np.sin(waves * np.pi * x)
+    width = 2.0
+    crease = 0.45 * width + tilt * z  # y of the crease on each ruling
+    half = rows // 2 + 1
+    t1 = np.linspace(0.0, 1.0, half)
+    t2 = np.linspace(0.0, 1.0, rows - half + 1)[1:]
+    y = np.concatenate([np.outer(t1, crease), crease + np.outer(t2, width - crease)])
+    pos = np.stack([np.broadcast_to(x, y.shape).ravel(), y.ravel(),
+                    np.broadcast_to(z, y.shape).ravel()], axis=1)
+    # Mirror the rows beyond the crease across the plane y - tilt z = 0.45 width.
+    normal = np.array([0.0, 1.0, -tilt]) / np.sqrt(1.0 + tilt * tilt)
+    offset = 0.45 * width / np.sqrt(1.0 + tilt * tilt)
+    beyond = np.repeat(np.arange(rows) >= half, cols)
+    d = pos[beyond] @ normal - offset
+    pos[beyond] -= 2.0 * d[:, None] * normal
+    return pos, grid_triangles(rows, cols)
+
+
+def sphere_cap(angle_degrees, rings=12, sectors=36, radius=1.0):
+    """The cap of a sphere within `angle_degrees` of its pole: a centre vertex
+    and `rings` rings of `sectors` vertices."""
+    theta = np.radians(angle_degrees) * np.arange(1, rings + 1) / rings
+    phi = 2 * np.pi * np.arange(sectors) / sectors
+    tt, pp = np.meshgrid(theta, phi, indexing="ij")
+    ring_pos = np.stack([np.sin(tt) * np.cos(pp), np.sin(tt) * np.sin(pp), np.cos(tt)], axis=-1)
+    pos = np.vstack([[0.0, 0.0, 1.0], ring_pos.reshape(-1, 3)]) * radius
+    s = np.arange(sectors)
+    fan = np.stack([np.zeros(sectors, int), 1 + s, 1 + (s + 1) % sectors], axis=1)
+    r, s = np.meshgrid(np.arange(rings - 1), s, indexing="ij")
+    a = (1 + r * sectors + s).ravel()
+    b = (1 + r * sectors + (s + 1) % sectors).ravel()
+    c, d = a + sectors, b + sectors
+    rings_tris = np.stack([np.stack([a, c, d], 1), np.stack([a, d, b], 1)], 1).reshape(-1, 3)
+    return pos, np.vstack([fan, rings_tris]).astype(np.int32)
+
+
 def noisy_grid(faces, seed=0):
     """A noisy, gently curved height-field grid of about `faces` triangles
     (cheap to build at millions of faces: memory-budget tests)."""

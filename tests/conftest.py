@@ -1,18 +1,18 @@
 """Shared fixtures: where the build and the test meshes are.
 
 scripts/test.sh builds before running pytest; run pytest alone only after a
-build (DEVELOPABLE_BUILD_DIR overrides the build folder, default build/)."""
-import os
+build (DEVELOPABLE_BUILD_DIR overrides the build folder, default build/).
+Tests and bench share the development kit devkit/ at the repository root."""
 import pathlib
 import sys
 
 import pytest
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 sys.path.insert(0, str(REPO))  # devkit
 
-import engine as engine_module  # noqa: E402
+from devkit import paths  # noqa: E402
+from devkit.binding import native  # noqa: E402
 
 
 @pytest.fixture(scope="session")
@@ -22,15 +22,15 @@ def repo_dir():
 
 @pytest.fixture(scope="session")
 def build_dir():
-    path = pathlib.Path(os.environ.get("DEVELOPABLE_BUILD_DIR", REPO / "build"))
-    if not (path / "lib" / "libdevelopable.so").exists():
+    path = paths.build_dir()
+    if not paths.library_path(path).exists():
         pytest.fail("no build at %s: run scripts/test.sh (it builds first)" % path)
     return path
 
 
 @pytest.fixture(scope="session")
 def library_path(build_dir):
-    return build_dir / "lib" / "libdevelopable.so"
+    return paths.library_path(build_dir)
 
 
 @pytest.fixture(scope="session")
@@ -39,13 +39,14 @@ def tool_path(build_dir):
 
 
 @pytest.fixture(scope="session")
-def engine(library_path):
-    return engine_module.Engine(str(library_path))
+def library(library_path):
+    """The engine of the build under test, loaded into addon/native.py (the one
+    binding): tests call native.run(...); raw C ABI tests call library.dev_*."""
+    return native.load(path=library_path)
 
 
 @pytest.fixture(scope="session")
 def meshes_dir():
-    path = REPO.parent / "shared" / "meshes"
-    if not path.is_dir():
+    if not paths.MESHES.is_dir():
         pytest.skip("../shared/meshes is not beside the checkout")
-    return path
+    return paths.MESHES

@@ -1,18 +1,18 @@
 """Helpers for the flat-pattern tests (tests/test_pattern*.py): the binding
 on the build's library, a PNG reader for rsvg-convert's output and
 geometric checks of an unfolding."""
-import os
 import pathlib
 import struct
 import zlib
 
 import numpy as np
 
+from devkit.binding import native
+
+
 def load_native(library_path):
-    """addon/native.py (devkit.binding: the add-on package imports bpy) on this library."""
-    from devkit.binding import native
-    os.environ[native.ENV_VAR] = str(library_path)
-    native.load(force_reload=True)
+    """addon/native.py (devkit/binding.py) with the build under test loaded."""
+    native.load(path=library_path)
     return native
 
 

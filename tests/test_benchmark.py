@@ -3,7 +3,6 @@ rot: it must run end to end on a few small meshes and write a well-formed
 table of finite numbers, into a folder of our choosing (never docs/)."""
 import json
 import math
-import os
 import re
 import subprocess
 import sys
@@ -87,19 +86,3 @@ def test_raw_numbers_are_finite(quick_run):
         assert 0 <= r["hausdorff"] < 1
     sections = {r["section"] for r in rows}
     assert {"real", "scaling", "paper_tables", "modes"} <= sections
-
-
-def test_hausdorff_grid_matches_reference():
-    """The grid Hausdorff of the benchmark equals tests/geometry.py's exact one."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    sys.path.insert(0, os.path.join(here, "..", "bench"))
-    import geometry
-    import hausdorff
-    import meshgen
-    pos, tri = meshgen.curved_cone()
-    moved = meshgen.add_noise(pos, 0.01, seed=5)
-    assert hausdorff.hausdorff(pos, tri, moved, tri) == pytest.approx(
-        geometry.hausdorff(pos, tri, moved, tri), rel=1e-12)
-    other_pos, other_tri = meshgen.cone(rows=7, cols=50, r0=1.36, r1=0.68, height=0.72)
-    assert hausdorff.hausdorff(pos, tri, other_pos, other_tri) == pytest.approx(
-        geometry.hausdorff(pos, tri, other_pos, other_tri), rel=1e-12)

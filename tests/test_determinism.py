@@ -5,18 +5,13 @@ The issue saw four add-on runs of one 262k-face sphere give four results."""
 import hashlib
 import os
 import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-import meshgen
-
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(REPO, "addon"))
-sys.path.insert(0, os.path.join(REPO, "bench"))
-import meshes  # noqa: E402  (bench/meshes.py: the benchmark's large bands)
-import native  # noqa: E402
+from devkit import meshes
+from devkit.binding import native
+from devkit.obj import read_obj, write_obj
 
 
 def digest(positions):
@@ -29,9 +24,8 @@ def big_mesh():
 
 
 @pytest.fixture(scope="module", autouse=True)
-def _library(library_path):
-    os.environ[native.ENV_VAR] = str(library_path)
-    native.load(force_reload=True)
+def _library(library):
+    """Every test here runs the engine of the build under test."""
 
 
 # 12 iterations cover two refits, the projection in between and the fold
@@ -43,7 +37,7 @@ def test_repeated_runs_in_one_process_are_bit_identical(big_mesh, monkeypatch):
     positions, triangles = big_mesh
     first = native.run(positions, triangles, params=PARAMS)
     assert first.stats["iterations"] == 12 and first.stats["faces"] >= 200_000
-    other, other_triangles = meshgen.noisy_cylinder_patch()
+    other, other_triangles = meshes.noisy_cylinder_patch()
     native.run(other, other_triangles)  # something else runs in between
     monkeypatch.setenv("DEVELOPABLE_THREADS", "1")
     second = native.run(positions, triangles, params=PARAMS)
@@ -55,7 +49,7 @@ def test_repeated_runs_in_one_process_are_bit_identical(big_mesh, monkeypatch):
 
 def test_thread_counts_give_the_same_file_through_the_tool(big_mesh, tool_path, tmp_path):
     positions, triangles = big_mesh
-    meshgen.write_obj(tmp_path / "in.obj", positions, triangles)
+    write_obj(tmp_path / "in.obj", positions, triangles)
     outputs = []
     for threads in ("1", "2"):
         out = tmp_path / ("out%s.obj" % threads)
@@ -69,7 +63,7 @@ def test_thread_counts_give_the_same_file_through_the_tool(big_mesh, tool_path, 
 
 
 def test_segmented_runs_repeat_bit_for_bit(meshes_dir):
-    positions, triangles = meshgen.read_obj(meshes_dir / "human_woman.obj")
+    positions, triangles = read_obj(meshes_dir / "human_woman.obj")
     a = native.run(positions, triangles, params={"max_iterations": 30})
     b = native.run(positions, triangles, params={"max_iterations": 30})
     assert a.stats["patches"] > 1 and a.stats["result"] == native.RESULT_IMPROVED
@@ -78,7 +72,7 @@ def test_segmented_runs_repeat_bit_for_bit(meshes_dir):
 
 
 def test_a_bad_thread_count_is_refused(monkeypatch):
-    positions, triangles = meshgen.noisy_cylinder_patch()
+    positions, triangles = meshes.noisy_cylinder_patch()
     monkeypatch.setenv("DEVELOPABLE_THREADS", "many")
     with pytest.raises(native.EngineError) as error:
         native.run(positions, triangles)

@@ -8,7 +8,8 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-import meshgen
+from devkit import meshes
+from devkit.obj import read_obj
 from pattern_support import (edge_strain, face_areas, load_native, overlapping_triangles, read_png,
                              signed_areas)
 
@@ -22,13 +23,13 @@ def native(library_path):
 
 def exact_shapes():
     shapes = {
-        "plane": meshgen.plane(),
-        "cylinder band": meshgen.cylinder(),
-        "open cylinder": meshgen.cylinder(angle=2.5),
-        "cone band": meshgen.cone(),
+        "plane": meshes.plane(),
+        "cylinder band": meshes.cylinder(),
+        "open cylinder": meshes.cylinder(angle=2.5),
+        "cone band": meshes.cone(),
     }
     for seed in (11, 12, 13):
-        shapes["curved fold %d" % seed] = meshgen.curved_fold(seed)
+        shapes["curved fold %d" % seed] = meshes.curved_fold(seed)
     return shapes
 
 
@@ -49,7 +50,7 @@ def dihedral_range_degrees(positions, triangles):
 def test_curved_fold_is_folded_and_flat():
     # The generator's promise: intrinsically flat, yet really folded.
     for seed in (11, 12, 13):
-        pos, tri = meshgen.curved_fold(seed)
+        pos, tri = meshes.curved_fold(seed)
         angle = np.zeros(len(pos))
         for k in range(3):
             u = pos[tri[:, (k + 1) % 3]] - pos[tri[:, k]]
@@ -86,7 +87,7 @@ def test_exact_developables_unfold_isometrically(native, name):
 
 
 def test_patches_become_pieces_with_a_matched_border(native):
-    pos, tri, part = meshgen.cylinder_cone()
+    pos, tri, part = meshes.cylinder_cone()
     pattern = native.unfold(pos, tri, part, params={"scale": 0})
     assert sorted(p["patch"] for p in pattern.pieces) == [0, 1]
     assert pattern.stats["max_strain"] < 1e-6
@@ -97,7 +98,7 @@ def test_patches_become_pieces_with_a_matched_border(native):
 
 @pytest.mark.parametrize("seed", [21, 22, 23])
 def test_noisy_developable_after_the_engine(native, seed):
-    pos, tri = meshgen.noisy_cylinder_patch(seed=seed)
+    pos, tri = meshes.noisy_cylinder_patch(seed=seed)
     result = native.run(pos, tri)
     pattern = native.unfold(result.positions, tri, result.patch_ids, params={"layout": 0})
     assert pattern.stats["mean_strain"] < 1e-3
@@ -108,7 +109,7 @@ def test_sphere_caps_report_growing_strain(native):
     # Unsplit (no seam tolerance): one piece whose strain grows with the cap.
     strains, areas = [], []
     for angle in (15, 30, 60, 90, 120):
-        pos, tri = meshgen.sphere_cap(angle)
+        pos, tri = meshes.sphere_cap(angle)
         pattern = native.unfold(pos, tri, params={"layout": 0, "seam_tolerance": 0})
         assert pattern.stats["pieces"] == 1
         assert (signed_areas(pattern.corner_uvs) > 0).all()
@@ -120,7 +121,7 @@ def test_sphere_caps_report_growing_strain(native):
     assert all(b > a for a, b in zip(areas, areas[1:])), areas
     assert strains[0] > 1e-3 and strains[-1] > 0.3
     # With the default seam tolerance the cap is split instead, more for larger caps.
-    counts = [native.unfold(*meshgen.sphere_cap(a), params={"layout": 0}).stats["pieces"]
+    counts = [native.unfold(*meshes.sphere_cap(a), params={"layout": 0}).stats["pieces"]
               for a in (15, 60, 120)]
     assert counts[0] < counts[1] < counts[2]
 
@@ -144,7 +145,7 @@ def seam_labels_in_svgs(files):
 
 @pytest.fixture(scope="module")
 def woman_pattern(native, meshes_dir, tmp_path_factory):
-    pos, tri = meshgen.read_obj(meshes_dir / "human_woman.obj")
+    pos, tri = read_obj(meshes_dir / "human_woman.obj")
     result = native.run(pos, tri)  # the engine with its defaults
     out = tmp_path_factory.mktemp("woman") / "woman.svg"
     pattern = native.unfold(result.positions, tri, result.patch_ids, params={"scale": 0},
@@ -205,8 +206,8 @@ def test_human_woman_seams_match(woman_pattern):
 
 def test_face_groups_stay_together(native):
     # A noisy sheet must be split; triangles of one quad (a group) never part.
-    pos, tri = meshgen.plane(rows=14, cols=14, size=2.0)
-    pos = meshgen.add_noise(pos, 0.08, seed=31)
+    pos, tri = meshes.plane(rows=14, cols=14, size=2.0)
+    pos = meshes.add_noise(pos, 0.08, seed=31)
     quads = np.arange(len(tri)) // 2  # grid_triangles emits the two triangles of a quad in a row
     free = native.unfold(pos, tri, params={"scale": 0})
     grouped = native.unfold(pos, tri, params={"scale": 0}, face_groups=quads)
@@ -223,7 +224,7 @@ def test_face_groups_stay_together(native):
 
 def test_seams_follow_pieces(native):
     # Two pieces of one cut band and two patches: each seam's sides are where it says.
-    pos, tri, part = meshgen.cylinder_cone()
+    pos, tri, part = meshes.cylinder_cone()
     pattern = native.unfold(pos, tri, part, params={"layout": 0})
     piece = pattern.piece_ids
     for seam in pattern.seams:
@@ -246,7 +247,7 @@ def rasterise(svg, png, dpi):
 @pytest.mark.skipif(RSVG is None, reason="rsvg-convert (librsvg2-bin) is not installed")
 def test_scale_is_true_on_the_rasterised_sheet(native, tmp_path):
     # A 10 cm x 5 cm plane in metres, 1:1 on A4, rasterised at 254 dpi (10 px per mm).
-    pos, tri = meshgen.plane(rows=6, cols=11, size=0.1)
+    pos, tri = meshes.plane(rows=6, cols=11, size=0.1)
     pos[:, 1] *= 0.05 / pos[:, 1].max()
     svg = tmp_path / "plane.svg"
     pattern = native.unfold(pos, tri, params={"scale": 1.0, "unit_name": "m"}, svg_path=str(svg))
@@ -283,7 +284,7 @@ def test_rasterised_sheets_are_not_blank(woman_pattern, tmp_path):
 
 
 def test_bad_input_gets_a_status(native, tmp_path):
-    pos, tri = meshgen.plane()
+    pos, tri = meshes.plane()
     with pytest.raises(native.EngineError) as err:
         native.unfold(pos, tri, np.full(len(tri), -1))
     assert err.value.status_name == "INVALID_ARGUMENT" and "negative" in err.value.message

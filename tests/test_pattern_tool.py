@@ -6,7 +6,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-import meshgen
+from devkit import meshes
+from devkit.obj import write_obj
 
 
 def run_tool(tool_path, *args):
@@ -14,9 +15,9 @@ def run_tool(tool_path, *args):
 
 
 def test_tool_writes_the_pattern_and_reports_it(tool_path, tmp_path):
-    pos, tri = meshgen.cone()
+    pos, tri = meshes.cone()
     mesh = tmp_path / "cone.obj"
-    meshgen.write_obj(mesh, pos * 10, tri)  # 10 x the unit band, in cm: about 30 cm across
+    write_obj(mesh, pos * 10, tri)  # 10 x the unit band, in cm: about 30 cm across
     report = tmp_path / "report.json"
     proc = run_tool(tool_path, mesh, tmp_path / "out.obj", "--quiet", "--pattern", tmp_path / "p.svg",
                     "--sheet", "a3", "--unit", "cm", "--scale", "auto", "--report", report)
@@ -38,9 +39,9 @@ def test_tool_writes_the_pattern_and_reports_it(tool_path, tmp_path):
 
 
 def test_tool_pattern_options_are_checked(tool_path, tmp_path):
-    pos, tri = meshgen.plane()
+    pos, tri = meshes.plane()
     mesh = tmp_path / "plane.obj"
-    meshgen.write_obj(mesh, pos, tri)
+    write_obj(mesh, pos, tri)
     for bad in (["--sheet", "big"], ["--sheet", "0x10"], ["--scale", "-2"], ["--unit", "ft"]):
         proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--pattern", tmp_path / "p.svg", *bad)
         assert proc.returncode == 1 and "error" in proc.stderr
@@ -50,9 +51,9 @@ def test_tool_pattern_options_are_checked(tool_path, tmp_path):
 
 
 def test_tool_letter_sheet_in_inches(tool_path, tmp_path):
-    pos, tri = meshgen.plane(rows=5, cols=6, size=4.0)  # 4 in x 3.2 in
+    pos, tri = meshes.plane(rows=5, cols=6, size=4.0)  # 4 in x 3.2 in
     mesh = tmp_path / "plane.obj"
-    meshgen.write_obj(mesh, pos, tri)
+    write_obj(mesh, pos, tri)
     report = tmp_path / "r.json"
     proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
                     "--sheet", "letter", "--unit", "in", "--report", report)

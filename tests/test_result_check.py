@@ -3,24 +3,19 @@ face over and is no worse than the input on mean |defect| and on the flat
 share; otherwise it returns the input, says so (result UNCHANGED, a message)
 and the tool warns. Through the add-on's binding, addon/native.py."""
 import json
-import os
 import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-import meshgen
-
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(REPO, "addon"))
-import native  # noqa: E402
+from devkit import meshes
+from devkit.binding import native
+from devkit.obj import read_obj, write_obj
 
 
 @pytest.fixture(scope="module", autouse=True)
-def _library(library_path):
-    os.environ[native.ENV_VAR] = str(library_path)
-    native.load(force_reload=True)
+def _library(library):
+    """Every test here runs the engine of the build under test."""
 
 
 def face_normals(positions, triangles):
@@ -53,7 +48,7 @@ def check_honest(positions, triangles, result):
 
 
 def test_a_noisy_patch_improves_honestly():
-    positions, triangles = meshgen.noisy_cylinder_patch()
+    positions, triangles = meshes.noisy_cylinder_patch()
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
     assert result.stats["result"] == native.RESULT_IMPROVED
@@ -61,7 +56,7 @@ def test_a_noisy_patch_improves_honestly():
 
 
 def test_a_developable_mesh_comes_back_unchanged_and_says_so():
-    positions, triangles = meshgen.plane()
+    positions, triangles = meshes.plane()
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
     assert result.stats["result"] == native.RESULT_UNCHANGED
@@ -100,14 +95,14 @@ def test_a_sphere_is_never_made_worse():
 
 @pytest.mark.parametrize("name", ["human_woman", "penguin", "torus", "spot_low_resolution"])
 def test_whole_objects_are_never_folded_or_made_worse(meshes_dir, name):
-    positions, triangles = meshgen.read_obj(meshes_dir / (name + ".obj"))
+    positions, triangles = read_obj(meshes_dir / (name + ".obj"))
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
 
 
 def test_the_tool_warns_when_it_returns_the_input(tool_path, tmp_path):
-    positions, triangles = meshgen.plane()
-    meshgen.write_obj(tmp_path / "plane.obj", positions, triangles)
+    positions, triangles = meshes.plane()
+    write_obj(tmp_path / "plane.obj", positions, triangles)
     run = subprocess.run([str(tool_path), str(tmp_path / "plane.obj"), str(tmp_path / "out.obj"),
                           "--quiet", "--report", str(tmp_path / "r.json")],
                          capture_output=True, text=True)
@@ -120,8 +115,8 @@ def test_the_tool_warns_when_it_returns_the_input(tool_path, tmp_path):
 
 
 def test_the_tool_reports_an_honest_improvement(tool_path, tmp_path):
-    positions, triangles = meshgen.noisy_cylinder_patch()
-    meshgen.write_obj(tmp_path / "patch.obj", positions, triangles)
+    positions, triangles = meshes.noisy_cylinder_patch()
+    write_obj(tmp_path / "patch.obj", positions, triangles)
     run = subprocess.run([str(tool_path), str(tmp_path / "patch.obj"), str(tmp_path / "out.obj"),
                           "--report", str(tmp_path / "r.json")], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr

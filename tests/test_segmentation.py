@@ -3,8 +3,10 @@ piecewise developable."""
 import numpy as np
 import pytest
 
-import geometry
-import meshgen
+from devkit import meshes
+from devkit.binding import native
+from devkit.distance import bbox_diagonal, sampled_hausdorff
+from devkit.obj import read_obj
 
 
 def split_matches(patch_ids, piece):
@@ -14,48 +16,48 @@ def split_matches(patch_ids, piece):
 
 
 @pytest.mark.parametrize("angle", [90.0, 150.0])
-def test_folded_sheet_splits_along_the_crease(engine, angle):
-    positions, triangles = meshgen.folded_sheet(angle_degrees=angle)
-    flat, _ = meshgen.plane()
+def test_folded_sheet_splits_along_the_crease(library, angle):
+    positions, triangles = meshes.folded_sheet(angle_degrees=angle)
+    flat, _ = meshes.plane()
     piece = (flat[triangles].mean(axis=1)[:, 0] > 1.0).astype(int)
-    result = engine.run(positions, triangles, segmentation=1)
+    result = native.run(positions, triangles, params=dict(segmentation=1))
     assert result.stats["patches"] == 2
     assert split_matches(result.patch_ids, piece)
 
 
-def test_cylinder_joined_to_cone_splits_along_the_seam(engine):
-    positions, triangles, piece = meshgen.cylinder_cone()
-    result = engine.run(positions, triangles, segmentation=1)
+def test_cylinder_joined_to_cone_splits_along_the_seam(library):
+    positions, triangles, piece = meshes.cylinder_cone()
+    result = native.run(positions, triangles, params=dict(segmentation=1))
     assert result.stats["patches"] == 2
     assert split_matches(result.patch_ids, piece)
-    assert {c["patch"] for c in result.curves} == {0, 1}
+    assert {patch for _, patch, _ in result.curves} == {0, 1}
 
 
-def test_segmentation_is_deterministic(engine, meshes_dir):
-    positions, triangles = meshgen.read_obj(meshes_dir / "wingnut.obj")
-    a = engine.run(positions, triangles, segmentation=1, max_iterations=1)
-    b = engine.run(positions, triangles, segmentation=1, max_iterations=1)
+def test_segmentation_is_deterministic(library, meshes_dir):
+    positions, triangles = read_obj(meshes_dir / "wingnut.obj")
+    a = native.run(positions, triangles, params=dict(segmentation=1, max_iterations=1))
+    b = native.run(positions, triangles, params=dict(segmentation=1, max_iterations=1))
     assert np.array_equal(a.patch_ids, b.patch_ids)
 
 
-def test_segmentation_off_gives_one_patch(engine, meshes_dir):
-    positions, triangles = meshgen.read_obj(meshes_dir / "wingnut.obj")
-    result = engine.run(positions, triangles, segmentation=0, max_iterations=1)
+def test_segmentation_off_gives_one_patch(library, meshes_dir):
+    positions, triangles = read_obj(meshes_dir / "wingnut.obj")
+    result = native.run(positions, triangles, params=dict(segmentation=0, max_iterations=1))
     assert result.stats["patches"] == 1 and not result.patch_ids.any()
 
 
 @pytest.mark.parametrize("name", ["boat", "wingnut"])
-def test_piecewise_developable_meshes_keep_their_shape(engine, meshes_dir, name):
-    positions, triangles = meshgen.read_obj(meshes_dir / (name + ".obj"))
-    result = engine.run(positions, triangles)
+def test_piecewise_developable_meshes_keep_their_shape(library, meshes_dir, name):
+    positions, triangles = read_obj(meshes_dir / (name + ".obj"))
+    result = native.run(positions, triangles)
     s = result.stats
     interior = result.interior
     flat_before = np.mean(np.abs(result.defect_before[interior]) < 1e-3)
     flat_after = np.mean(np.abs(result.defect_after[interior]) < 1e-3)
     assert flat_after >= flat_before - 0.01
     assert s["mean_defect_after"] <= s["mean_defect_before"]
-    distance = geometry.hausdorff(positions, triangles, result.positions, triangles)
-    assert distance <= 0.005 * geometry.bbox_diagonal(positions)
+    distance = sampled_hausdorff(positions, triangles, result.positions, triangles)
+    assert distance <= 0.005 * bbox_diagonal(positions)
 
 
 # Issue 11: these results were reached by turning faces over (or raising the
@@ -83,36 +85,36 @@ def patch_inside(triangles, patch_ids, interior):
 
 
 @FOLDS_XFAIL
-def test_human_woman_is_made_piecewise_developable(engine, meshes_dir):
+def test_human_woman_is_made_piecewise_developable(library, meshes_dir):
     """The issue's goal on the closest to the paper's wetsuit: on a closed
     surface the total curvature is fixed (Gauss-Bonnet), so a good result
     gathers it on the seams and the share of flat vertices counts. With 60
     patches and a 1.4 AE tolerance (docs/segmentation.md), at least half the
     interior vertices end with |defect| < 1e-3 rad, within 1 % of the
     bounding-box diagonal."""
-    positions, triangles = meshgen.read_obj(meshes_dir / "human_woman.obj")
-    result = engine.run(positions, triangles, target_patches=60, tolerance=1.4)
+    positions, triangles = read_obj(meshes_dir / "human_woman.obj")
+    result = native.run(positions, triangles, params=dict(target_patches=60, tolerance=1.4))
     interior = result.interior
     assert result.stats["patches"] == 60
     assert flat_share(result.defect_before, interior) < 0.05
     assert flat_share(result.defect_after, interior) >= 0.5
-    distance = geometry.hausdorff(positions, triangles, result.positions, triangles)
-    assert distance <= 0.01 * geometry.bbox_diagonal(positions)
+    distance = sampled_hausdorff(positions, triangles, result.positions, triangles)
+    assert distance <= 0.01 * bbox_diagonal(positions)
 
 
-@pytest.mark.parametrize("seams", ["free", "pinned"])
-def test_segmented_result_is_flatter_inside_the_patches(engine, meshes_dir, seams):
+@pytest.mark.parametrize("seams", [native.SEAMS_FREE, native.SEAMS_PINNED], ids=["free", "pinned"])
+def test_segmented_result_is_flatter_inside_the_patches(library, meshes_dir, seams):
     """Default settings: automatic segmentation, and the kept iterate is the
     one with the lowest median |defect| inside the patches, never above the
     input's; free seams (the default) flatten far more than pinned ones."""
-    positions, triangles = meshgen.read_obj(meshes_dir / "human_woman.obj")
-    result = engine.run(positions, triangles, seams=seams)
+    positions, triangles = read_obj(meshes_dir / "human_woman.obj")
+    result = native.run(positions, triangles, params=dict(seams=seams))
     assert result.stats["patches"] > 1
     inside = patch_inside(triangles, result.patch_ids, result.interior)
     before = np.median(np.abs(result.defect_before[inside]))
     after = np.median(np.abs(result.defect_after[inside]))
     assert after <= before
-    if seams == "free":
+    if seams == native.SEAMS_FREE:
         assert after < 0.2 * before
         assert flat_share(result.defect_after, result.interior) >= 0.3
     limit = result.stats["average_edge_length"] * 10.0  # the default tolerance
@@ -120,17 +122,17 @@ def test_segmented_result_is_flatter_inside_the_patches(engine, meshes_dir, seam
 
 
 @FOLDS_XFAIL
-def test_target_smoothing_flattens_doubly_curved_patches(engine, meshes_dir):
+def test_target_smoothing_flattens_doubly_curved_patches(library, meshes_dir):
     """Projected targets of a doubly curved patch jump along its ideal curve
     and crumple it; the automatic one round of smoothing on a segmented mesh
     (docs/method.md) flattens the torus's patches instead (measured: 11 % of
     the vertices flat without it, 35 % with it, 8 % before)."""
-    positions, triangles = meshgen.read_obj(meshes_dir / "torus.obj")
-    plain = engine.run(positions, triangles, target_smoothing=0)
-    smoothed = engine.run(positions, triangles)
+    positions, triangles = read_obj(meshes_dir / "torus.obj")
+    plain = native.run(positions, triangles, params=dict(target_smoothing=0))
+    smoothed = native.run(positions, triangles)
     assert plain.stats["patches"] > 1
     flat_plain = flat_share(plain.defect_after, plain.interior)
     flat_smoothed = flat_share(smoothed.defect_after, smoothed.interior)
     assert flat_smoothed >= max(2.0 * flat_plain, 0.3)
-    distance = geometry.hausdorff(positions, triangles, smoothed.positions, triangles)
-    assert distance <= 0.01 * geometry.bbox_diagonal(positions)
+    distance = sampled_hausdorff(positions, triangles, smoothed.positions, triangles)
+    assert distance <= 0.01 * bbox_diagonal(positions)

@@ -5,7 +5,8 @@ import subprocess
 import numpy as np
 import pytest
 
-import meshgen
+from devkit import meshes
+from devkit.obj import read_obj, write_obj
 
 
 def run_tool(tool_path, *args):
@@ -23,22 +24,22 @@ def test_help(tool_path):
 
 @pytest.mark.parametrize("suffix", ["obj", "off", "ply", "stl"])
 def test_formats_round_trip(tool_path, tmp_path, suffix):
-    positions, triangles = meshgen.noisy_cylinder_patch()
+    positions, triangles = meshes.noisy_cylinder_patch()
     source = tmp_path / "in.obj"
-    meshgen.write_obj(source, positions, triangles)
+    write_obj(source, positions, triangles)
     middle = tmp_path / ("mid." + suffix)
     assert run_tool(tool_path, source, middle, "--max-iterations", "1", "--quiet").returncode == 0
     target = tmp_path / "out.obj"
     run = run_tool(tool_path, middle, target, "--quiet")
     assert run.returncode == 0, run.stderr
-    out_positions, out_triangles = meshgen.read_obj(target)
+    out_positions, out_triangles = read_obj(target)
     assert out_positions.shape == positions.shape and len(out_triangles) == len(triangles)
 
 
 def test_run_with_report_and_pins(tool_path, tmp_path):
-    positions, triangles = meshgen.curved_cone()
+    positions, triangles = meshes.curved_cone()
     source, target, report = tmp_path / "cone.obj", tmp_path / "out.obj", tmp_path / "r.json"
-    meshgen.write_obj(source, positions, triangles)
+    write_obj(source, positions, triangles)
     pins = tmp_path / "pins.txt"
     pinned = [0, 5, 715]  # on the boundary rings: an interior pin would hold the bulge
     pins.write_text("\n".join(map(str, pinned)) + "\n")
@@ -51,15 +52,15 @@ def test_run_with_report_and_pins(tool_path, tmp_path):
     assert stats["vertices"] == 720 and stats["faces"] == 1280
     assert stats["change_percent"] <= -90
     assert len(data["patch_ids"]) == 1280 and len(data["curves"]) == stats["curves"] >= 1
-    out_positions, _ = meshgen.read_obj(target)
+    out_positions, _ = read_obj(target)
     assert np.array_equal(out_positions[pinned], positions[pinned])
     assert np.abs(out_positions - positions).max() <= 10 * stats["average_edge_length"] + 1e-12
 
 
 def test_quiet_prints_nothing(tool_path, tmp_path):
-    positions, triangles = meshgen.noisy_cylinder_patch()
+    positions, triangles = meshes.noisy_cylinder_patch()
     source = tmp_path / "in.obj"
-    meshgen.write_obj(source, positions, triangles)
+    write_obj(source, positions, triangles)
     run = run_tool(tool_path, source, tmp_path / "out.obj", "--quiet")
     assert run.returncode == 0 and run.stdout == "" and run.stderr == ""
 
@@ -72,9 +73,9 @@ def test_quiet_prints_nothing(tool_path, tmp_path):
     (["--max-iterations", "2.5"], "whole number"),
 ])
 def test_bad_options(tool_path, tmp_path, args, words):
-    positions, triangles = meshgen.plane()
+    positions, triangles = meshes.plane()
     source = tmp_path / "in.obj"
-    meshgen.write_obj(source, positions, triangles)
+    write_obj(source, positions, triangles)
     run = run_tool(tool_path, source, tmp_path / "out.obj", *args)
     assert run.returncode == 1 and words in run.stderr
     assert not (tmp_path / "out.obj").exists()
@@ -84,7 +85,7 @@ def test_file_errors(tool_path, tmp_path):
     run = run_tool(tool_path, tmp_path / "missing.obj", tmp_path / "out.obj")
     assert run.returncode == 1 and "cannot open" in run.stderr
     source = tmp_path / "in.obj"
-    meshgen.write_obj(source, *meshgen.plane())
+    write_obj(source, *meshes.plane())
     run = run_tool(tool_path, source, tmp_path / "out.xyz")
     assert run.returncode == 1 and "cannot write" in run.stderr
     pins = tmp_path / "pins.txt"

@@ -36,11 +36,11 @@ sys.path.insert(0, str(REPO))  # devkit
 from devkit.binding import enum_name, native  # noqa: E402
 from devkit.distance import bbox_diagonal, sampled_hausdorff  # noqa: E402
 from devkit.machine import machine_info  # noqa: E402
+from devkit.measures import FLAT, average_edge_length, face_normals, seam_vertices, turned_faces  # noqa: E402,E501
 from devkit.obj import read_obj  # noqa: E402
 from devkit.paths import MESHES  # noqa: E402
 
 PICTURES = ("patches", "defect-before", "defect-after", "closeup")
-FLAT = 1e-3  # rad: an interior vertex with |defect| below this counts as flat
 RUNS = [
     ("60 patches, tolerance 1.4 AE (the issue's goal)", "goal",
      {"target_patches": 60, "tolerance": 1.4}),
@@ -83,31 +83,6 @@ def describe_defaults(params):
 
 # ---------------------------------------------------------------- measures
 
-def seam_vertices(n, triangles, patch_ids):
-    """Vertices whose faces belong to more than one patch."""
-    first = np.full(n, -1)
-    seam = np.zeros(n, dtype=bool)
-    for corner in range(3):
-        v = triangles[:, corner]
-        unset = first[v] < 0
-        first[v[unset]] = patch_ids[unset]
-        seam[v[first[v] != patch_ids]] = True
-    return seam
-
-
-def mean_edge_length(positions, triangles):
-    e = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]],
-                                triangles[:, [2, 0]]]), axis=1)
-    e = np.unique(e, axis=0)
-    return float(np.linalg.norm(positions[e[:, 0]] - positions[e[:, 1]], axis=1).mean())
-
-
-def face_normals(positions, triangles):
-    t = positions[triangles]
-    n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
-    return n / np.linalg.norm(n, axis=1)[:, None]
-
-
 def edge_faces(n, triangles):
     """The two faces of every edge of a closed manifold mesh (open edges are dropped)."""
     e = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]],
@@ -134,8 +109,7 @@ def measure(label, positions, triangles, result):
     diagonal = bbox_diagonal(positions)
     moves = np.linalg.norm(result.positions - positions, axis=1)
     fa, fb = edge_faces(len(positions), triangles)
-    turn = np.einsum("ij,ij->i", face_normals(positions, triangles),
-                     face_normals(result.positions, triangles))
+    turn = turned_faces(positions, result.positions, triangles)
     return {
         "label": label, "patches": int(s["patches"]), "v": int(s["vertices"]),
         "f": int(s["faces"]), "interior": int(interior.sum()), "inside": int(inside.sum()),
@@ -173,7 +147,7 @@ def per_patch(positions, triangles, result):
         verts = np.unique(faces)
         mine = verts[inside[verts]]
         row = {"patch": p, "v": len(verts), "f": len(faces), "inside": len(mine),
-               "ae": mean_edge_length(positions, faces)}
+               "ae": average_edge_length(positions, faces)}
         if len(mine):
             row.update(e_before=before[mine].mean(), e_after=after[mine].mean(),
                        flat_before=np.mean(before[mine] < FLAT),

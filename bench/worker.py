@@ -23,8 +23,7 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent))  # devkit
-import metrics  # noqa: E402
-from devkit import meshes  # noqa: E402
+from devkit import measures, meshes  # noqa: E402
 from devkit.binding import native, params_from_names  # noqa: E402
 from devkit.distance import bbox_diagonal, sampled_hausdorff  # noqa: E402
 from devkit.obj import read_obj, write_obj  # noqa: E402
@@ -129,10 +128,10 @@ def main():
     out_pos = run.pop("out_positions")
     out_tri = run.pop("out_triangles", triangles)
     row.update(run)
-    before = metrics.defect_summary(positions, triangles)
-    after = metrics.defect_summary(out_pos, out_tri)
+    before = measures.defect_summary(positions, triangles)
+    after = measures.defect_summary(out_pos, out_tri)
     row.update({
-        "AE": metrics.average_edge_length(positions, triangles),
+        "AE": measures.average_edge_length(positions, triangles),
         "mean_before": before["mean"], "max_before": before["max"], "flat_before": before["flat"],
         "mean_after": after["mean"], "max_after": after["max"], "flat_after": after["flat"],
     })

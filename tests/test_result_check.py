@@ -10,6 +10,7 @@ import pytest
 
 from devkit import meshes
 from devkit.binding import native
+from devkit.measures import flat_share, turned_faces
 from devkit.obj import read_obj, write_obj
 
 
@@ -18,21 +19,10 @@ def _library(library):
     """Every test here runs the engine of the build under test."""
 
 
-def face_normals(positions, triangles):
-    p = positions[triangles]
-    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-
-
-def flat_share(defects, interior):
-    return float(np.mean(np.abs(defects[interior]) < 1e-3))
-
-
 def check_honest(positions, triangles, result):
     """What every result must satisfy, whatever the mesh."""
     s = result.stats
-    turned = np.sum(np.einsum("ij,ij->i", face_normals(positions, triangles),
-                              face_normals(result.positions, triangles)) < 0)
+    turned = np.sum(turned_faces(positions, result.positions, triangles) < 0)
     assert turned == 0 and s["faces_turned_over"] == 0
     assert s["mean_defect_after"] <= s["mean_defect_before"]
     assert s["flat_share_before"] == pytest.approx(flat_share(result.defect_before, result.interior))

@@ -6,6 +6,7 @@ import pytest
 from devkit import meshes
 from devkit.binding import native
 from devkit.distance import bbox_diagonal, sampled_hausdorff
+from devkit.measures import flat_share, seam_vertices
 from devkit.obj import read_obj
 
 
@@ -68,20 +69,9 @@ FOLDS_XFAIL = pytest.mark.xfail(strict=True, reason="issue 11: reached only by f
                                 "fold-free step does not reach it yet")
 
 
-def flat_share(defects, interior):
-    return np.mean(np.abs(defects[interior]) < 1e-3)
-
-
 def patch_inside(triangles, patch_ids, interior):
     """Interior vertices whose faces all belong to one patch (not on a seam)."""
-    first = np.full(interior.size, -1)
-    seam = np.zeros(interior.size, dtype=bool)
-    for corner in range(3):
-        v, p = triangles[:, corner], patch_ids
-        unset = first[v] < 0
-        first[v[unset]] = p[unset]
-        seam[v[first[v] != p]] = True
-    return interior & ~seam
+    return interior & ~seam_vertices(interior.size, triangles, patch_ids)
 
 
 @FOLDS_XFAIL

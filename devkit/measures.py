@@ -1,5 +1,5 @@
-"""Quality measures computed in numpy, the same for the engine and for any
-other tool's output (--compare)."""
+"""Quality measures computed in numpy, the same for the engine's results and
+for any other tool's output (bench/run.py --compare), in tests and bench."""
 import numpy as np
 
 FLAT = 1e-3  # rad: an interior vertex with |defect| below this counts as developable
@@ -46,3 +46,33 @@ def defect_summary(positions, triangles):
     if not len(a):
         return {"mean": float("nan"), "max": float("nan"), "flat": float("nan")}
     return {"mean": float(a.mean()), "max": float(a.max()), "flat": float((a < FLAT).mean())}
+
+
+def flat_share(defects, interior):
+    """Share of the interior vertices with |defect| < FLAT (0..1)."""
+    return float(np.mean(np.abs(defects[interior]) < FLAT))
+
+
+def face_normals(positions, triangles):
+    """Unit normals (m, 3) of the triangles (zero-area ones: a zero vector)."""
+    p = positions[triangles]
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+
+
+def turned_faces(before, after, triangles):
+    """Per face: the cosine of the angle its normal turned from `before` to
+    `after` (< 0: turned over by more than 90 degrees, a fold)."""
+    return np.einsum("ij,ij->i", face_normals(before, triangles), face_normals(after, triangles))
+
+
+def seam_vertices(n, triangles, patch_ids):
+    """Vertices whose faces belong to more than one patch."""
+    first = np.full(n, -1)
+    seam = np.zeros(n, dtype=bool)
+    for corner in range(3):
+        v = triangles[:, corner]
+        unset = first[v] < 0
+        first[v[unset]] = patch_ids[unset]
+        seam[v[first[v] != patch_ids]] = True
+    return seam

@@ -151,3 +151,46 @@ def diagonal(positions):
     if len(finite) == 0:
         return 0.0
     return float(np.linalg.norm(finite.max(axis=0) - finite.min(axis=0)))
+
+
+def plural(n, one, many):
+    return "%d %s" % (n, one if n == 1 else many)
+
+
+def verdict(obj_name, stats, fig):
+    """(report level 'INFO' or 'WARNING', verdict 'IMPROVED' / 'WORSE' /
+    'UNCHANGED', message): a warning when a figure got worse or nothing
+    changed, with what to try. stats: the engine's dev_stats as a dict; fig:
+    figures() (the engine's own flat shares and turned faces when it has them)."""
+    e0, e1 = stats["mean_defect_before"], stats["mean_defect_after"]
+    engine_said = stats.get("result_message", "")
+    unchanged = stats.get("result") == 1 or fig["max_move"] == 0.0
+    flat = "flat %.0f %% \u2192 %.0f %%" % (100 * fig["flat_before"], 100 * fig["flat_after"])
+    summary = ("%s, curvature %+.1f %%, moved at most %.2g %% of its size, %s, %.0f ms"
+               % (flat, stats["change_percent"], fig["move_percent"],
+                  plural(fig["faces_turned"], "face turned over", "faces turned over"),
+                  stats["time_total_ms"]))
+    if unchanged:
+        why = engine_said.rstrip(". ") or ("it is already developable" if stats["stop_reason"] == 0
+                              else "no better shape was found within the limits")
+        return 'WARNING', 'UNCHANGED', (
+            "%s: nothing changed (%s). Try a larger 'Shape May Move', or the job 'Whole object "
+            "into pieces' for a closed object." % (obj_name, why))
+    worse = []
+    if e1 > e0 * (1.0 + 1e-9):
+        worse.append("the mean curvature grew (%+.1f %%)" % stats["change_percent"])
+    if fig["flat_after"] < fig["flat_before"]:
+        worse.append("fewer vertices are flat (%s)" % flat)
+    if fig["faces_turned"] > 0:
+        worse.append(plural(fig["faces_turned"], "face turned over", "faces turned over"))
+    if worse:
+        tips = []
+        if fig["faces_turned"] > 0:
+            tips.append("a smaller 'Shape May Move' or Pin Boundary")
+        if e1 > e0 or fig["flat_after"] < fig["flat_before"]:
+            tips.append("the job 'Whole object into pieces' (a closed or doubly curved object "
+                        "cannot flatten as one piece)")
+        return 'WARNING', 'WORSE', (
+            "%s got worse: %s. The result is kept in the shape key 'Developable' at 0 (slide it "
+            "to look). Try %s. [%s]" % (obj_name, "; ".join(worse), " or ".join(tips), summary))
+    return 'INFO', 'IMPROVED', "%s: %s" % (obj_name, summary)

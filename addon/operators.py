@@ -147,10 +147,6 @@ def _where(obj, vertices):
     return "near (%.3g, %.3g, %.3g)" % tuple(w)
 
 
-def _plural(n, one, many):
-    return "%d %s" % (n, one if n == 1 else many)
-
-
 def describe_mesh_problem(obj, buffers, exc):
     """For a mesh the engine refused: (what to select as (vertices, edges,
     polygons), a message in the user's terms naming Blender's own elements)."""
@@ -164,12 +160,12 @@ def describe_mesh_problem(obj, buffers, exc):
             return (many.reshape(-1), many, ()), head + (
                 "%s shared by more than two faces (a non-manifold edge), %s.%s; "
                 "Select > Select All by Trait > Non Manifold shows them all."
-                % (_plural(len(many), "edge is", "edges are"), _where(obj, many[0]), tail))
+                % (checks.plural(len(many), "edge is", "edges are"), _where(obj, many[0]), tail))
         if len(flipped):
             return (flipped.reshape(-1), flipped, ()), head + (
                 "%s between faces of opposite direction (inconsistent orientation), %s.%s; "
                 "Mesh > Normals > Recalculate Outside fixes it."
-                % (_plural(len(flipped), "edge lies", "edges lie"), _where(obj, flipped[0]), tail))
+                % (checks.plural(len(flipped), "edge lies", "edges lie"), _where(obj, flipped[0]), tail))
         vertex = re.search(r"vertex (\d+) is non-manifold", exc.message)
         if vertex:
             v = int(vertex.group(1))
@@ -181,7 +177,7 @@ def describe_mesh_problem(obj, buffers, exc):
         if len(bad):
             return ((), (), bad), head + (
                 "%s zero area (e.g. face %d), %s.%s; Mesh > Clean Up > Degenerate Dissolve "
-                "removes them." % (_plural(len(bad), "face has", "faces have"), bad[0],
+                "removes them." % (checks.plural(len(bad), "face has", "faces have"), bad[0],
                                   _where(obj, tris[tri_poly == bad[0]].reshape(-1)), tail))
     if exc.status == 5:
         pairs = checks.duplicate_polygons(tris, tri_poly)
@@ -190,46 +186,9 @@ def describe_mesh_problem(obj, buffers, exc):
             faces = sorted({p for pair in pairs for p in pair})
             return ((), (), faces), head + (
                 "face %d repeats the vertices of face %d (%s), %s.%s; delete one of them."
-                % (later, earlier, _plural(len(pairs), "pair", "pairs"),
+                % (later, earlier, checks.plural(len(pairs), "pair", "pairs"),
                    _where(obj, tris[tri_poly == later].reshape(-1)), tail))
     return None, head + exc.message
-
-
-def _verdict(obj_name, stats, fig):
-    """(report level, verdict, message): WARNING when a figure got worse or
-    nothing changed, with what to try."""
-    e0, e1 = stats["mean_defect_before"], stats["mean_defect_after"]
-    engine_said = stats.get("result_message", "")
-    unchanged = stats.get("result") == 1 or fig["max_move"] == 0.0
-    flat = "flat %.0f %% \u2192 %.0f %%" % (100 * fig["flat_before"], 100 * fig["flat_after"])
-    summary = ("%s, curvature %+.1f %%, moved at most %.2g %% of its size, %s, %.0f ms"
-               % (flat, stats["change_percent"], fig["move_percent"],
-                  _plural(fig["faces_turned"], "face turned over", "faces turned over"),
-                  stats["time_total_ms"]))
-    if unchanged:
-        why = engine_said or ("it is already developable" if stats["stop_reason"] == 0
-                              else "no better shape was found within the limits")
-        return {'WARNING'}, 'UNCHANGED', (
-            "%s: nothing changed (%s). Try a larger 'Shape May Move', or the job 'Whole object "
-            "into pieces' for a closed object." % (obj_name, why))
-    worse = []
-    if e1 > e0 * (1.0 + 1e-9):
-        worse.append("the mean curvature grew (%+.1f %%)" % stats["change_percent"])
-    if fig["flat_after"] < fig["flat_before"]:
-        worse.append("fewer vertices are flat (%s)" % flat)
-    if fig["faces_turned"] > 0:
-        worse.append(_plural(fig["faces_turned"], "face turned over", "faces turned over"))
-    if worse:
-        tips = []
-        if fig["faces_turned"] > 0:
-            tips.append("a smaller 'Shape May Move' or Pin Boundary")
-        if e1 > e0 or fig["flat_after"] < fig["flat_before"]:
-            tips.append("the job 'Whole object into pieces' (a closed or doubly curved object "
-                        "cannot flatten as one piece)")
-        return {'WARNING'}, 'WORSE', (
-            "%s got worse: %s. The result is kept in the shape key 'Developable' at 0 (slide it "
-            "to look). Try %s. [%s]" % (obj_name, "; ".join(worse), " or ".join(tips), summary))
-    return {'INFO'}, 'IMPROVED', "%s: %s" % (obj_name, summary)
 
 
 class MESH_OT_make_developable(Operator):
@@ -422,10 +381,11 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
             engine_result = native.RESULT_NAMES.get(s["result"], str(s["result"]))
             if s.get("result_message"):
                 engine_result += ": " + s["result_message"]
-        level, verdict, message = _verdict(obj.name, s, fig)
+        level, verdict, message = checks.verdict(obj.name, s, fig)
+        level = {level}
         if target.dropped:
             message += (" (%s lying on another face ignored, as Blender's Validate does)"
-                        % _plural(target.dropped, "triangle", "triangles"))
+                        % checks.plural(target.dropped, "triangle", "triangles"))
         if target.shared_with:
             message += (" Its mesh is shared with %s, which changed too."
                         % ", ".join(target.shared_with))

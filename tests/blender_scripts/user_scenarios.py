@@ -331,6 +331,43 @@ def s_gauss():
           "legend": sorted(o.data.body for o in coll.objects if o.type == 'FONT')})
 
 
+
+
+def s_redo_reaches_the_sidebar():
+    """Needs a window (xvfb-run): a run from the UI, then the last operation
+    repeated with another value (what Adjust Last Operation and Repeat Last
+    do): the sidebar shows the value that ran."""
+    import os
+
+    def go():
+        win = bpy.context.window_manager.windows[0]
+        area = next(a for a in win.screen.areas if a.type == 'VIEW_3D')
+        region = next(r for r in area.regions if r.type == 'WINDOW')
+        out = {}
+        try:
+            with bpy.context.temp_override(window=win, screen=win.screen, area=area, region=region):
+                clear()
+                ob = make_object("sheet", *noisy_sheet())
+                settings = bpy.context.scene.developable
+                settings.max_iterations = 7
+                bpy.ops.ed.undo_push(message="sheet")
+                out["first"] = sorted(bpy.ops.mesh.make_developable('EXEC_DEFAULT', True))
+                out["first_iterations"] = ob.developable.iterations
+                last = bpy.context.window_manager.operators[-1]
+                out["last"] = last.bl_idname
+                last.properties.max_iterations = 4
+                out["repeat"] = sorted(bpy.ops.screen.repeat_last())
+                ob = bpy.data.objects["sheet"]
+                out["iterations"] = ob.developable.iterations
+                out["sidebar"] = bpy.context.scene.developable.max_iterations
+        except Exception as exc:  # reported, not a hang
+            import traceback
+            out["exception"] = traceback.format_exc()
+        emit(out)
+        os._exit(0)
+    bpy.app.timers.register(go, first_interval=1.0)
+
+
 SCENARIOS = {name[2:]: fn for name, fn in globals().items() if name.startswith("s_")}
 
 if __name__ == "__main__":

@@ -35,8 +35,8 @@ if "bpy" in locals():  # script reload (F8 / addon_utils)
 
 import bpy  # noqa: E402
 
-from . import (native, checks, mesh_io, properties, writeback, gauss_image, operators,  # noqa: E402
-               panels, pattern)
+from . import native, checks, mesh_io, properties, writeback, gauss_image  # noqa: E402
+from . import operators, panels, pattern  # noqa: E402
 
 # pattern after panels: its sub-panel's parent
 _modules = (properties, operators, panels, pattern, gauss_image)

@@ -216,35 +216,33 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
         layout.corners.row(3 * f + k) << origin[p].x() + (q.x() - turned.min().x()) * mm_per_unit,
             origin[p].y() + (turned.max().y() - q.y()) * mm_per_unit;
       }
-    // The label: at the area centroid if that lies on the piece, else at the
-    // centroid of its largest triangle.
-    Vec2 centroid = Vec2::Zero();
-    double area_sum = 0.0, largest = -1.0;
-    Vec2 largest_centre = Vec2::Zero();
+    // The label: at the face centre farthest from the outline (sampled: at
+    // most 400 faces and 400 outline corners), so that it sits well inside
+    // even a ring or a C-shaped piece; its size fits that room.
     const auto corner = [&](int f, int k) -> Vec2 { return layout.corners.row(3 * f + k).transpose(); };
-    for (int f : faces_of[p]) {
-      const double a = std::abs(cross2(corner(f, 1) - corner(f, 0), corner(f, 2) - corner(f, 0))) / 2;
-      const Vec2 c = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
-      centroid += a * c;
-      area_sum += a;
-      if (a > largest) largest = a, largest_centre = c;
+    double area_sum = 0.0;
+    for (int f : faces_of[p])
+      area_sum += std::abs(cross2(corner(f, 1) - corner(f, 0), corner(f, 2) - corner(f, 0))) / 2;
+    std::vector<Vec2> rim;
+    for (const auto& loop : unfolded.pieces[p].outline) {
+      const size_t step = std::max<size_t>(1, loop.size() / 400);
+      for (size_t i = 0; i < loop.size(); i += step) rim.push_back(layout.corners.row(loop[i]).transpose());
     }
-    centroid /= std::max(area_sum, 1e-300);
-    bool inside = false;
-    for (int f : faces_of[p]) {
-      const double d0 = cross2(corner(f, 1) - corner(f, 0), centroid - corner(f, 0));
-      const double d1 = cross2(corner(f, 2) - corner(f, 1), centroid - corner(f, 1));
-      const double d2 = cross2(corner(f, 0) - corner(f, 2), centroid - corner(f, 2));
-      if ((d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0)) {
-        inside = true;
-        break;
-      }
+    const size_t face_step = std::max<size_t>(1, faces_of[p].size() / 400);
+    Vec2 best_at = Vec2::Zero();
+    double room = -1.0;
+    for (size_t i = 0; i < faces_of[p].size(); i += face_step) {
+      const int f = faces_of[p][i];
+      const Vec2 c = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const Vec2& q : rim) nearest = std::min(nearest, (q - c).norm());
+      if (nearest > room) room = nearest, best_at = c;
     }
     SheetLabel& label = layout.pieces[p].label;
     label.text = piece_label(static_cast<int>(p));
     label.sheet = layout.pieces[p].sheet;
-    label.at = inside ? centroid : largest_centre;
-    label.size = std::clamp(0.12 * std::sqrt(area_sum), 1.5, 10.0);
+    label.at = best_at;
+    label.size = std::clamp(std::min(0.12 * std::sqrt(area_sum), 1.2 * room), 1.5, 10.0);
   }
 
   // Match marks: the same label on both sides of every seam, at its middle.

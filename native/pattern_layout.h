@@ -37,7 +37,8 @@ struct SheetLabel {
 struct PlacedPiece {
   int sheet = 0;
   Eigen::Vector2d size = Eigen::Vector2d::Zero();  // its upright bounding box on the sheet, mm
-  SheetLabel label;                                // "A", "B", ... at a point inside the piece
+  SheetLabel label;                                // "A", "B", ... at the (sampled) face centre
+                                                   // farthest from the outline
 };
 
 // One side of a seam: a notch across the cut line at the seam's middle and

@@ -399,9 +399,55 @@ struct FlatPiece {
 
 // Flat map of a disc (verts: its vertices as corner classes) or nothing when
 // a factorisation fails or the result overlaps itself.
+// Greedy start: each triangle laid down beside the one it is reached from
+// (breadth first over uncut edges), by its edge lengths. Exact on a
+// developable disc, and O(#faces); where the disc is not developable the
+// vertices reached twice disagree and the largest edge strain says so.
+std::vector<Vec2> greedy_layout(const LocalPiece& piece, const CornerVertices& verts, const EdgeTable& edges,
+                                const std::vector<char>& is_cut,
+                                const std::vector<std::array<Vec2, 3>>& local) {
+  const size_t nf = piece.tris.size();
+  std::vector<Vec2> uv(verts.count, Vec2::Zero());
+  std::vector<char> placed(verts.count, 0), visited(nf, 0);
+  for (int k = 0; k < 3; ++k) uv[verts.of_corner[k]] = local[0][k], placed[verts.of_corner[k]] = 1;
+  std::vector<int> queue{0};
+  visited[0] = 1;
+  for (size_t head = 0; head < queue.size(); ++head) {
+    const int f = queue[head];
+    for (int k = 0; k < 3; ++k) {
+      const int e = edges.of_face_edge[3 * f + k];
+      if (edges.uses[e][1] < 0 || is_cut[e]) continue;
+      const int twin = edges.uses[e][0] == 3 * f + k ? edges.uses[e][1] : edges.uses[e][0];
+      const int g = twin / 3, kg = twin % 3;  // in g the edge runs b -> a
+      if (visited[g]) continue;
+      visited[g] = 1;
+      queue.push_back(g);
+      const int c = verts.of_corner[3 * g + (kg + 2) % 3];
+      if (placed[c]) continue;
+      const Vec2 b = uv[verts.of_corner[3 * g + kg]], a = uv[verts.of_corner[3 * g + (kg + 1) % 3]];
+      const double d = (a - b).norm();
+      const double lbc = (local[g][(kg + 2) % 3] - local[g][kg]).norm();
+      const double lac = (local[g][(kg + 2) % 3] - local[g][(kg + 1) % 3]).norm();
+      const Vec2 along = d > 0 ? Vec2((a - b) / d) : Vec2(1, 0);
+      const double x = d > 0 ? (lbc * lbc - lac * lac + d * d) / (2 * d) : 0.0;
+      const double h = std::sqrt(std::max(0.0, lbc * lbc - x * x));
+      uv[c] = b + x * along + h * Vec2(-along.y(), along.x());  // b, a, c counter-clockwise
+      placed[c] = 1;
+    }
+  }
+  return uv;
+}
+
+// A greedy start this close to isometric replaces the conformal one (whose
+// 2n x 2n factorisation is the unfolding's largest cost); this close, the
+// refinement is skipped too: it cannot do better than rounding.
+constexpr double kGreedyStart = 1e-3;
+constexpr double kAlreadyIsometric = 1e-9;
+
 bool flatten_disc(const Positions& positions, const LocalPiece& piece, const CornerVertices& verts,
+                  const EdgeTable& edges, const std::vector<char>& is_cut,
                   const std::vector<int>& outline, const UnfoldOptions& options,
-                  std::vector<Vec2>* uv_out, int* iterations) {
+                  std::vector<Vec2>* uv_out, int* iterations, bool allow_greedy = true) {
   const int nv = verts.count;
   const size_t nf = piece.tris.size();
   // Each triangle in its own plane: x0 = 0, x1 on the first axis.
@@ -421,6 +467,20 @@ bool flatten_disc(const Positions& positions, const LocalPiece& piece, const Cor
   }
   if (!(total_area > 0.0)) return false;
 
+  std::vector<Vec2> uv;
+  double greedy_strain = std::numeric_limits<double>::infinity();
+  if (allow_greedy) {
+    uv = greedy_layout(piece, verts, edges, is_cut, local);
+    greedy_strain = 0.0;
+    for (size_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const double l3 = (local[f][(k + 1) % 3] - local[f][k]).norm();
+        const double l2 = (uv[verts.of_corner[3 * f + (k + 1) % 3]] - uv[verts.of_corner[3 * f + k]]).norm();
+        greedy_strain = std::max(greedy_strain, std::abs(l2 / l3 - 1.0));
+      }
+  }
+  const bool from_greedy = greedy_strain <= kGreedyStart;
+  if (!from_greedy) {
   // Conformal start (LSCM): two far-apart outline vertices pinned.
   const auto vertex_of = [&](int fe) { return verts.of_corner[fe]; };
   const auto point_of = [&](int v_corner) { return positions.row(piece.tris[v_corner / 3][v_corner % 3]); };
@@ -441,7 +501,7 @@ bool flatten_disc(const Positions& positions, const LocalPiece& piece, const Cor
   for (int v = 0; v < nv; ++v)
     if (v != va && v != vb) column[v] = free_count++;
   const Vec2 pinned_a(0, 0), pinned_b(pin_distance, 0);
-  std::vector<Vec2> uv(nv, Vec2::Zero());
+  uv.assign(nv, Vec2::Zero());
   uv[va] = pinned_a;
   uv[vb] = pinned_b;
   if (free_count > 0) {
@@ -490,6 +550,8 @@ bool flatten_disc(const Positions& positions, const LocalPiece& piece, const Cor
   if (!(conformal_area > 0.0)) return false;
   const double to_scale = std::sqrt(total_area / conformal_area);
   for (auto& p : uv) p *= to_scale;
+  }
+  const int max_rounds = greedy_strain <= kAlreadyIsometric ? 0 : options.arap_iterations;
 
   // ARAP: cotangent weights of the edge opposite each corner.
   std::vector<std::array<double, 3>> cot(nf);
@@ -517,7 +579,7 @@ bool flatten_disc(const Positions& positions, const LocalPiece& piece, const Cor
   SparseMatrix laplacian(unknowns, unknowns);
   laplacian.setFromTriplets(entries.begin(), entries.end());
   Eigen::SimplicialLDLT<SparseMatrix> arap;
-  if (unknowns > 0) {
+  if (unknowns > 0 && max_rounds > 0) {
     arap.compute(laplacian);
     if (arap.info() != Eigen::Success) return false;
   }
@@ -536,7 +598,7 @@ bool flatten_disc(const Positions& positions, const LocalPiece& piece, const Cor
       }
     return sum;
   };
-  for (; unknowns > 0 && rounds < options.arap_iterations; ++rounds) {
+  for (; unknowns > 0 && rounds < max_rounds; ++rounds) {
     // Local: the rotation closest to each triangle's current map.
     for (size_t f = 0; f < nf; ++f) {
       Eigen::Matrix2d s = Eigen::Matrix2d::Zero();
@@ -615,6 +677,9 @@ bool flatten_disc(const Positions& positions, const LocalPiece& piece, const Cor
     *uv_out = start;
     return true;
   }
+  // The greedy start can mislead the refinement: the conformal one decides.
+  if (from_greedy)
+    return flatten_disc(positions, piece, verts, edges, is_cut, outline, options, uv_out, iterations, false);
   return false;
 }
 
@@ -632,7 +697,7 @@ bool flatten_piece(const Positions& positions, const LocalPiece& piece,
                      static_cast<long>(piece.tris.size());
   if (!manifold || loops.size() != 1 || euler != 1) return false;
   std::vector<Vec2> uv;
-  if (!flatten_disc(positions, piece, verts, loops[0], options, &uv, &out->arap_iterations))
+  if (!flatten_disc(positions, piece, verts, edges, is_cut, loops[0], options, &uv, &out->arap_iterations))
     return false;
   // Seams must match: no outline edge may stretch beyond the tolerance.
   if (options.seam_tolerance > 0.0)

@@ -79,10 +79,13 @@ struct UnfoldResult {
 // interior edge paths: shortest paths join every further boundary loop to the
 // first one, a closed piece is opened along its longest shortest path, and
 // the remaining handles are cut along the short edges a maximum spanning tree
-// of the dual graph leaves. Each disc is then flattened by least-squares
-// conformal maps (two boundary vertices pinned) scaled to the 3D area, then
-// refined by local/global as-rigid-as-possible rounds with the cotangent
-// Laplacian factored once (Eigen SimplicialLDLT). A flat piece must have no
+// of the dual graph leaves. Each disc then gets a start: triangles laid down
+// breadth first by their edge lengths (greedy; kept when no edge is off by
+// more than 0.1 %, and final when none is off by more than 1e-9), else
+// least-squares conformal maps (two boundary vertices pinned) scaled to the
+// 3D area; then local/global as-rigid-as-possible rounds with the cotangent
+// Laplacian factored once (Eigen SimplicialLDLT). If the greedy start leads
+// nowhere valid, the conformal one is tried. A flat piece must have no
 // triangle of non-positive area, a flat angle sum of 2 pi at every interior
 // vertex, a simple outline and every outline edge within seam_tolerance; a
 // piece that fails is split in two across its

@@ -25,6 +25,25 @@ struct NormalMoments {
   NormalMoments& operator+=(const NormalMoments& other);
 };
 
+// The weighted plane fit of a set of unit normals: the normals of a cone
+// satisfy axis . n = cos(angle), a plane equation in n, so the axis is the
+// direction in which they vary least.
+struct NormalPlaneFit {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  // weighted mean normal (not unit)
+  // Eigenvector of the smallest eigenvalue of the weighted covariance about
+  // the mean, unit, oriented toward the mean; when the mean is orthogonal to
+  // it (|axis . mean| < 1e-12, a full cylinder) the largest component is
+  // positive, so the sign is deterministic.
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d eigenvalues = Eigen::Vector3d::Zero();  // of the covariance, ascending, >= 0
+  bool found = false;  // false when the eigenvector was not finite (axis stays UnitZ)
+};
+
+// Fits the plane of normals given their weighted mean and their weighted
+// covariance about it (from NormalMoments, or summed about the mean, which
+// rounds less: choose_chart_pole in gauss_chart.h).
+NormalPlaneFit fit_normal_plane(const Eigen::Vector3d& mean, const Eigen::Matrix3d& covariance);
+
 struct ConeFit {
   Cone cone;
   // Weighted sum of squared algebraic residuals (axis . n - cos(angle))^2 of
@@ -32,10 +51,8 @@ struct ConeFit {
   double residual = 0.0;
 };
 
-// Least-squares cone of the normals: the normals of a cone satisfy
-// axis . n = cos(angle), a plane equation in n, so the axis is the
-// smallest-eigenvalue eigenvector of the weighted covariance of the normals
-// and cos(angle) is axis . mean. Closed form, no iteration.
+// Least-squares cone of the normals: the axis of their plane fit
+// (fit_normal_plane) and cos(angle) = axis . mean. Closed form, no iteration.
 // A set whose normals all lie within ~1e-3 rad (a plane) fits every axis; it
 // gets axis = mean normal and angle 0. Zero total weight gives the default
 // cone with residual 0.

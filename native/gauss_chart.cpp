@@ -1,6 +1,8 @@
 #include "gauss_chart.h"
 
-#include <Eigen/Eigenvalues>
+#include "cone_fit.h"
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -51,8 +53,6 @@ Eigen::Vector3d choose_chart_pole(const Normals& normals, const Eigen::VectorXd&
   const double mean_length = mean.norm();
   if (mean_length >= kShortMean) return mean / mean_length;
 
-  // Weighted plane fit: the normals of a cone satisfy axis . n = const, so the
-  // axis is the direction in which the normals vary least.
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (Eigen::Index i = 0; i < normals.rows(); ++i) {
     const Eigen::Vector3d n = normals.row(i).transpose();
@@ -61,22 +61,16 @@ Eigen::Vector3d choose_chart_pole(const Normals& normals, const Eigen::VectorXd&
     const Eigen::Vector3d d = n.normalized() - mean;
     cov += w * d * d.transpose();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / total);
-  Eigen::Vector3d axis = eig.eigenvectors().col(0);  // eigenvalues ascending
-  if (!axis.allFinite() || axis.squaredNorm() < 0.5) {
+
+  // The axis of the weighted plane fit (cone_fit.h), oriented toward the
+  // mean, so a cone's circle sits at its half-angle (< 90 degrees) rather
+  // than at 180 minus it; for a full cylinder either sign is as good and
+  // the largest component positive keeps it deterministic.
+  const NormalPlaneFit plane = fit_normal_plane(mean, cov / total);
+  if (!plane.found) {
     return mean_length > 0.0 ? Eigen::Vector3d(mean / mean_length) : Eigen::Vector3d::UnitZ();
   }
-  axis.normalize();
-  // Toward the mean, so a cone's circle sits at its half-angle (< 90 degrees)
-  // rather than at 180 minus it. For a full cylinder the mean is ~0 and either
-  // sign is as good; the largest component positive keeps it deterministic.
-  double side = axis.dot(mean);
-  if (std::abs(side) < 1e-12) {
-    Eigen::Index k = 0;
-    axis.cwiseAbs().maxCoeff(&k);
-    side = axis[k];
-  }
-  return side < 0.0 ? Eigen::Vector3d(-axis) : axis;
+  return plane.axis;
 }
 
 GaussChart::GaussChart(const Eigen::Vector3d& pole) {

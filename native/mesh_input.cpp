@@ -133,24 +133,16 @@ void check_edges(const std::vector<DirectedEdge>& edges) {
 
 // A vertex is manifold when the link edges (a -> b for each triangle (v, a, b))
 // of its triangles form a single fan: one open chain or one closed cycle.
-void check_vertex_fans(Eigen::Index n, const Triangles& triangles) {
-  std::vector<int> offset(static_cast<size_t>(n) + 1, 0);
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
-    for (int c = 0; c < 3; ++c) ++offset[static_cast<size_t>(triangles(f, c)) + 1];
-  for (size_t v = 0; v < static_cast<size_t>(n); ++v) offset[v + 1] += offset[v];
-  std::vector<std::pair<int, int>> link(offset.back());
-  std::vector<int> fill(offset.begin(), offset.end() - 1);
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int v = triangles(f, c);
-      link[static_cast<size_t>(fill[static_cast<size_t>(v)]++)] = {triangles(f, (c + 1) % 3),
-                                                                  triangles(f, (c + 2) % 3)};
-    }
-  }
-  for (size_t v = 0; v < static_cast<size_t>(n); ++v) {
-    const auto* fan = link.data() + offset[v];
-    const int count = offset[v + 1] - offset[v];
+void check_vertex_fans(const Triangles& triangles, const VertexFaces& table) {
+  std::vector<std::pair<int, int>> fan;
+  for (Eigen::Index v = 0; v < table.vertex_count(); ++v) {
+    const int count = table.count(v);
     if (count < 2) continue;
+    fan.clear();
+    for (const int* g = table.begin(v); g != table.end(v); ++g) {
+      const int c = triangles(*g, 0) == v ? 0 : (triangles(*g, 1) == v ? 1 : 2);
+      fan.emplace_back(triangles(*g, (c + 1) % 3), triangles(*g, (c + 2) % 3));
+    }
     // Link edges a -> b are unique per source (check_edges ran first), so the
     // link is a set of chains and cycles; a single fan walks through all of it
     // from the one chain start, or from anywhere on the one cycle.
@@ -185,12 +177,14 @@ void check_vertex_fans(Eigen::Index n, const Triangles& triangles) {
 
 }  // namespace
 
-void validate_mesh(const Positions& positions, const Triangles& triangles) {
+VertexFaces validate_mesh(const Positions& positions, const Triangles& triangles) {
   check_counts_and_indices(positions, triangles);
   check_degenerate(positions, triangles);
   check_duplicates(triangles);
   check_edges(sorted_directed_edges(triangles));
-  check_vertex_fans(positions.rows(), triangles);
+  VertexFaces table = vertex_faces(triangles, positions.rows());
+  check_vertex_fans(triangles, table);
+  return table;
 }
 
 Eigen::Index coincident_vertices(const Positions& positions) {

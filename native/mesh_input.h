@@ -1,6 +1,7 @@
 // Stage 1 of the pipeline: checking the caller's mesh before anything uses it.
 #pragma once
 
+#include "mesh_connectivity.h"
 #include "types.h"
 
 #include <vector>
@@ -20,7 +21,9 @@ namespace developable {
 //                          orientation), or a vertex whose triangles form
 //                          more than one fan.
 // Vertices that no triangle uses are allowed (they are never moved).
-void validate_mesh(const Positions& positions, const Triangles& triangles);
+// Returns the faces around each vertex, which the checks build anyway and
+// the later stages share (mesh_connectivity.h).
+VertexFaces validate_mesh(const Positions& positions, const Triangles& triangles);
 
 // How many vertices sit at exactly the same position as another vertex. A
 // mesh whose triangles each have their own three vertices (a polygon soup:

@@ -188,17 +188,8 @@ constexpr int kFoldRevertRounds = 20;
 
 class FoldDamping {
  public:
-  FoldDamping(const Triangles& triangles, Eigen::Index vertex_count)
-      : triangles_(triangles), damping_(Eigen::VectorXd::Ones(triangles.rows())),
-        first_(static_cast<size_t>(vertex_count) + 1, 0) {
-    for (Eigen::Index f = 0; f < triangles.rows(); ++f)
-      for (int c = 0; c < 3; ++c) ++first_[static_cast<size_t>(triangles(f, c)) + 1];
-    for (size_t v = 1; v < first_.size(); ++v) first_[v] += first_[v - 1];
-    faces_.resize(first_.back());
-    std::vector<Eigen::Index> fill(first_.begin(), first_.end() - 1);
-    for (Eigen::Index f = 0; f < triangles.rows(); ++f)
-      for (int c = 0; c < 3; ++c) faces_[static_cast<size_t>(fill[static_cast<size_t>(triangles(f, c))]++)] = f;
-  }
+  FoldDamping(const Triangles& triangles, const VertexFaces& vertex_faces)
+      : triangles_(triangles), vertex_faces_(vertex_faces), damping_(Eigen::VectorXd::Ones(triangles.rows())) {}
 
   const Eigen::VectorXd& factors() const { return damping_; }
   bool any() const { return damped_; }
@@ -206,11 +197,9 @@ class FoldDamping {
   void damp_around(const std::vector<Eigen::Index>& turned) {
     for (Eigen::Index f : turned)
       for (int c = 0; c < 3; ++c) {
-        const auto v = static_cast<size_t>(triangles_(f, c));
-        for (Eigen::Index i = first_[v]; i < first_[v + 1]; ++i) {
-          const Eigen::Index g = faces_[static_cast<size_t>(i)];
-          damping_[g] = std::min(damping_[g], 1.0) * kFoldDamping;
-        }
+        const int v = triangles_(f, c);
+        for (const int* g = vertex_faces_.begin(v); g != vertex_faces_.end(v); ++g)
+          damping_[*g] = std::min(damping_[*g], 1.0) * kFoldDamping;
       }
     damped_ = true;
   }
@@ -223,10 +212,9 @@ class FoldDamping {
 
  private:
   const Triangles& triangles_;
+  const VertexFaces& vertex_faces_;
   Eigen::VectorXd damping_;
   bool damped_ = false;
-  std::vector<Eigen::Index> first_;  // vertex -> its faces, compressed
-  std::vector<Eigen::Index> faces_;
 };
 
 // Why iterates were not eligible to be returned (see run_pipeline), for the
@@ -301,15 +289,16 @@ void check_options(const PipelineOptions& o) {
   require(o.threads >= 0 && o.threads <= 256, "threads must be 0 (automatic) or between 1 and 256");
 }
 
-void check_input(const Positions& positions, const Triangles& triangles, const std::vector<bool>& pinned,
-                 const PipelineOptions& options, const Progress& progress) {
+VertexFaces check_input(const Positions& positions, const Triangles& triangles, const std::vector<bool>& pinned,
+                        const PipelineOptions& options, const Progress& progress) {
   // Options first: a wild grid_resolution is invalid_argument, not out_of_memory.
   check_options(options);
   check_memory_budget(positions.rows(), triangles.rows(), options);
   progress.report(0.0, "checking input");
-  validate_mesh(positions, triangles);
+  VertexFaces table = validate_mesh(positions, triangles);
   if (!pinned.empty() && static_cast<Eigen::Index>(pinned.size()) != positions.rows())
     throw EngineError(Status::invalid_argument, "the pin mask needs one entry per vertex");
+  return table;
 }
 
 PatchFaces faces_of_patches(const std::vector<int>& patch_ids, int patch_count) {
@@ -385,7 +374,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
                             const std::vector<bool>& pinned_input, const PipelineOptions& options,
                             const Progress& progress) {
   const auto start_time = Clock::now();
-  check_input(positions, triangles, pinned_input, options, progress);
+  const VertexFaces connectivity = check_input(positions, triangles, pinned_input, options, progress);
   const Eigen::Index n = positions.rows();
 
   PipelineResult result;
@@ -438,7 +427,8 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   }
   if (segment) {
     result.patch_ids =
-        segment_mesh(positions, triangles, options.segmentation_options, progress.sub(0.02, 0.05));
+        segment_mesh(positions, triangles, normals_before, areas_before, connectivity,
+                     options.segmentation_options, progress.sub(0.02, 0.05));
     for (int label : result.patch_ids) patch_count = std::max(patch_count, label + 1);
     progress.report(0.05, "ideal curve");
     patches = faces_of_patches(result.patch_ids, patch_count);
@@ -472,7 +462,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
       options.target_smoothing < 0 && !piecewise && options.mode == Mode::refit;
   std::optional<TargetSmoother> smoother;
   if (smoothing_rounds > 0) {
-    smoother.emplace(triangles, result.patch_ids);
+    smoother.emplace(triangles, result.patch_ids, connectivity);
     result.target_normals = smoother->smooth(result.target_normals, areas_before, smoothing_rounds);
   }
 
@@ -509,7 +499,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   const bool can_damp = formulation == Formulation::decoupled;
   const Eigen::VectorXd trust =
       can_damp ? sliver_trust(positions, triangles) : Eigen::VectorXd::Ones(triangles.rows());
-  FoldDamping damping(triangles, n);
+  FoldDamping damping(triangles, connectivity);
   if (can_damp && trust.minCoeff() < 1.0) deformation.set_normal_weights(trust);
 
   // Iterations (t_I).
@@ -645,7 +635,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
       if (smoothed_phase_pending && best_score > kSmoothedPhaseShare * input_score) {
         smoothed_phase_pending = false;
         smoothing_rounds = 1;
-        smoother.emplace(triangles, result.patch_ids);
+        smoother.emplace(triangles, result.patch_ids, connectivity);
         // Restart from the best iterate, with curves fitted on it (not on
         // the last iterate, which may have crumpled).
         current = result.positions;

@@ -82,8 +82,9 @@ void check_options(const PipelineOptions& options);
 // out_of_memory), progress 0 "checking input", the mesh (validate_mesh in
 // mesh_input.h: its own statuses), and the pin mask's size (empty or one
 // entry per vertex: invalid_argument). run_pipeline calls it first.
-void check_input(const Positions& positions, const Triangles& triangles, const std::vector<bool>& pinned,
-                 const PipelineOptions& options, const Progress& progress);
+// Returns validate_mesh's table of the faces around each vertex.
+VertexFaces check_input(const Positions& positions, const Triangles& triangles, const std::vector<bool>& pinned,
+                        const PipelineOptions& options, const Progress& progress);
 
 struct PatchCurve {
   int patch = 0;

@@ -1,6 +1,7 @@
 #include "segmentation.h"
 
 #include "cone_fit.h"
+#include "measures.h"
 
 #include <Eigen/Geometry>
 
@@ -75,7 +76,8 @@ struct GrowthScale {
   double max_fit_error = kDefaultMaxFitError;
 };
 
-FaceGeometry face_geometry(const Positions& positions, const Triangles& triangles) {
+FaceGeometry face_geometry(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                           const Eigen::VectorXd& areas) {
   const Eigen::Index face_count = triangles.rows();
   FaceGeometry geometry;
   geometry.normal.resize(face_count);
@@ -85,31 +87,18 @@ FaceGeometry face_geometry(const Positions& positions, const Triangles& triangle
     const Eigen::Vector3d p0 = positions.row(triangles(f, 0)).transpose();
     const Eigen::Vector3d p1 = positions.row(triangles(f, 1)).transpose();
     const Eigen::Vector3d p2 = positions.row(triangles(f, 2)).transpose();
-    const Eigen::Vector3d cross = (p1 - p0).cross(p2 - p0);
-    const double norm = cross.norm();
-    geometry.normal[f] = cross / norm;
-    geometry.area[f] = 0.5 * norm;
+    geometry.normal[f] = normals.row(f).transpose();
+    geometry.area[f] = areas[f];
     geometry.centroid[f] = (p0 + p1 + p2) / 3.0;
     geometry.total_area += geometry.area[f];
   }
   return geometry;
 }
 
-// Face adjacency through a vertex -> faces table: on a manifold mesh the face
-// across edge (a, b) is the other face around a that also holds b.
-FaceAdjacency face_adjacency(const Positions& positions, const Triangles& triangles,
+// Face adjacency through the vertex -> faces table (face_across).
+FaceAdjacency face_adjacency(const Positions& positions, const Triangles& triangles, const VertexFaces& table,
                              const FaceGeometry& geometry) {
   const int face_count = static_cast<int>(triangles.rows());
-  const int vertex_count = static_cast<int>(positions.rows());
-  std::vector<int> first(vertex_count + 1, 0);
-  for (int f = 0; f < face_count; ++f)
-    for (int i = 0; i < 3; ++i) ++first[triangles(f, i) + 1];
-  for (int v = 0; v < vertex_count; ++v) first[v + 1] += first[v];
-  std::vector<int> faces_of_vertex(first.back());
-  std::vector<int> fill(first.begin(), first.end() - 1);
-  for (int f = 0; f < face_count; ++f)
-    for (int i = 0; i < 3; ++i) faces_of_vertex[fill[triangles(f, i)]++] = f;
-
   FaceAdjacency adjacency;
   adjacency.neighbour.resize(face_count);
   adjacency.length.resize(face_count);
@@ -119,12 +108,7 @@ FaceAdjacency face_adjacency(const Positions& positions, const Triangles& triang
     for (int i = 0; i < 3; ++i) {
       const int a = triangles(f, i);
       const int b = triangles(f, (i + 1) % 3);
-      int across = -1;
-      for (int k = first[a]; k < first[a + 1] && across < 0; ++k) {
-        const int g = faces_of_vertex[k];
-        if (g != f && (triangles(g, 0) == b || triangles(g, 1) == b || triangles(g, 2) == b))
-          across = g;
-      }
+      const int across = face_across(table, triangles, f, a, b);
       adjacency.neighbour[f][i] = across;
       adjacency.length[f][i] = (positions.row(a) - positions.row(b)).norm();
       adjacency.perimeter[f] += adjacency.length[f][i];
@@ -678,6 +662,13 @@ std::vector<int> merge_to_count(const FaceGeometry& geometry, const FaceAdjacenc
 
 std::vector<int> segment_mesh(const Positions& positions, const Triangles& triangles,
                               const SegmentationOptions& options, const Progress& progress) {
+  return segment_mesh(positions, triangles, face_normals(positions, triangles), face_areas(positions, triangles),
+                      vertex_faces(triangles, positions.rows()), options, progress);
+}
+
+std::vector<int> segment_mesh(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                              const Eigen::VectorXd& areas, const VertexFaces& table,
+                              const SegmentationOptions& options, const Progress& progress) {
   if (triangles.rows() == 0 || positions.rows() == 0)
     throw EngineError(Status::empty_input, "segmentation: the mesh has no triangles");
   if (options.max_fit_error < 0.0 || !std::isfinite(options.max_fit_error))
@@ -689,8 +680,8 @@ std::vector<int> segment_mesh(const Positions& positions, const Triangles& trian
   progress.report(0.0, kStage);
   GrowthScale scale;
   if (options.max_fit_error > 0.0) scale.max_fit_error = options.max_fit_error;
-  const FaceGeometry geometry = face_geometry(positions, triangles);
-  const FaceAdjacency adjacency = face_adjacency(positions, triangles, geometry);
+  const FaceGeometry geometry = face_geometry(positions, triangles, normals, areas);
+  const FaceAdjacency adjacency = face_adjacency(positions, triangles, table, geometry);
   const auto [component, component_count] = face_components(adjacency);
   const int face_count = static_cast<int>(triangles.rows());
 

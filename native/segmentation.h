@@ -8,7 +8,10 @@
 // labels settle; small charts are merged into neighbours.
 #pragma once
 
+#include "mesh_connectivity.h"
 #include "types.h"
+
+#include <Eigen/Core>
 
 #include <vector>
 
@@ -27,6 +30,13 @@ struct SegmentationOptions {
 // Deterministic: the same input gives the same labels. Reports progress as
 // stage "segmentation"; throws EngineError(cancelled) if the callback says stop.
 std::vector<int> segment_mesh(const Positions& positions, const Triangles& triangles,
+                              const SegmentationOptions& options, const Progress& progress);
+
+// The same with what the caller has already computed: the unit face normals
+// and areas of `positions` (measures.h) and the faces around each vertex
+// (validate_mesh's table).
+std::vector<int> segment_mesh(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                              const Eigen::VectorXd& areas, const VertexFaces& vertex_faces,
                               const SegmentationOptions& options, const Progress& progress);
 
 }  // namespace developable

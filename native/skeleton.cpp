@@ -1,5 +1,8 @@
 #include "skeleton.h"
 
+#include "polyline_search.h"
+#include "union_find.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -15,22 +18,6 @@ struct Edge {
   double length;
   int a, b;
   bool operator<(const Edge& o) const { return std::tie(length, a, b) < std::tie(o.length, o.a, o.b); }
-};
-
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  bool unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    parent[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
 };
 
 using Tree = std::vector<std::vector<std::pair<int, double>>>;
@@ -109,14 +96,17 @@ Eigen::Vector2d leaving_direction(const std::vector<Eigen::Vector2d>& pts, doubl
 // to one link is allowed) and within one link, or 30 degrees, of that line;
 // and the same seen from b. Ends are given with their leaving directions
 // (ta leaves a forward, tb leaves b backward).
+constexpr double kCos60Degrees = 0.5;      // paths running the same way
+constexpr double kMaxAheadSlope = 0.58;    // lateral / along, ~tan 30 degrees (0.577)
+
 bool continues(const Eigen::Vector2d& pa, const Eigen::Vector2d& ta, const Eigen::Vector2d& pb,
                const Eigen::Vector2d& tb, double link_distance, double join_distance) {
   const Eigen::Vector2d gap = pb - pa;
-  if (gap.norm() > join_distance || ta.dot(-tb) < 0.5) return false;
+  if (gap.norm() > join_distance || ta.dot(-tb) < kCos60Degrees) return false;
   auto ahead = [&](const Eigen::Vector2d& t, const Eigen::Vector2d& g) {
     const double along = g.dot(t);
     const double lateral = (g - along * t).norm();
-    return along >= -link_distance && lateral <= std::max(link_distance, 0.58 * along);
+    return along >= -link_distance && lateral <= std::max(link_distance, kMaxAheadSlope * along);
   };
   return ahead(ta, gap) && ahead(tb, -gap);
 }
@@ -191,32 +181,18 @@ std::vector<Candidate> join_pieces(std::vector<Candidate> pieces, double link_di
   return out;
 }
 
-// Distance from p to the polyline (closed: with its closing segment).
-double distance_to(const Eigen::Vector2d& p, const SkeletonCurve& curve) {
-  const auto& pts = curve.points;
-  double best2 = (p - pts.front()).squaredNorm();
-  const size_t segs = curve.closed ? pts.size() : pts.size() - 1;
-  for (size_t s = 0; s < segs; ++s) {
-    const Eigen::Vector2d& a = pts[s];
-    const Eigen::Vector2d ab = pts[(s + 1) % pts.size()] - a;
-    const double len2 = ab.squaredNorm();
-    const double f = len2 > 0.0 ? std::min(1.0, std::max(0.0, (p - a).dot(ab) / len2)) : 0.0;
-    best2 = std::min(best2, (a + f * ab - p).squaredNorm());
-  }
-  return std::sqrt(best2);
-}
-
-// Whether at least half of the points lie within `distance` of a curve.
+// Whether at least half of the points lie within `distance` of a curve
+// (closed curves with their closing segment).
 bool shadowed(const std::vector<Eigen::Vector2d>& pts, const std::vector<SkeletonCurve>& curves, double distance) {
-  size_t near = 0;
-  for (const auto& p : pts) {
-    for (const auto& c : curves) {
-      if (distance_to(p, c) <= distance) {
-        ++near;
-        break;
-      }
-    }
+  std::vector<ChartPolyline> lines;
+  for (const auto& c : curves) {
+    ChartPolyline line{c.points, std::vector<double>(c.points.size(), 0.0), c.closed};
+    lines.push_back(std::move(line));
   }
+  const ChartPolylineSearch search(lines);
+  int warm = 0;
+  size_t near = 0;
+  for (const auto& p : pts) near += std::sqrt(search.nearest(p, warm).dist2) <= distance;
   return 2 * near >= pts.size();
 }
 

@@ -4,21 +4,15 @@
 
 namespace developable {
 
-TargetSmoother::TargetSmoother(const Triangles& triangles, const std::vector<int>& patch_ids) {
+TargetSmoother::TargetSmoother(const Triangles& triangles, const std::vector<int>& patch_ids)
+    : TargetSmoother(triangles, patch_ids,
+                     vertex_faces(triangles, triangles.rows() > 0 ? triangles.maxCoeff() + 1 : 0)) {}
+
+TargetSmoother::TargetSmoother(const Triangles& triangles, const std::vector<int>& patch_ids,
+                               const VertexFaces& table) {
   const Eigen::Index face_count = triangles.rows();
   if (static_cast<Eigen::Index>(patch_ids.size()) != face_count)
     throw EngineError(Status::internal_error, "target smoothing: one patch id per face");
-  const Eigen::Index vertex_count = face_count > 0 ? triangles.maxCoeff() + 1 : 0;
-
-  // Vertex -> faces, in compressed rows.
-  std::vector<Eigen::Index> vertex_offsets(static_cast<size_t>(vertex_count) + 1, 0);
-  for (Eigen::Index f = 0; f < face_count; ++f)
-    for (int c = 0; c < 3; ++c) ++vertex_offsets[static_cast<size_t>(triangles(f, c)) + 1];
-  for (size_t v = 0; v < static_cast<size_t>(vertex_count); ++v) vertex_offsets[v + 1] += vertex_offsets[v];
-  std::vector<Eigen::Index> vertex_faces(static_cast<size_t>(vertex_offsets.back()));
-  std::vector<Eigen::Index> fill(vertex_offsets.begin(), vertex_offsets.end() - 1);
-  for (Eigen::Index f = 0; f < face_count; ++f)
-    for (int c = 0; c < 3; ++c) vertex_faces[static_cast<size_t>(fill[static_cast<size_t>(triangles(f, c))]++)] = f;
 
   offsets_.reserve(static_cast<size_t>(face_count) + 1);
   offsets_.push_back(0);
@@ -27,11 +21,8 @@ TargetSmoother::TargetSmoother(const Triangles& triangles, const std::vector<int
   for (Eigen::Index f = 0; f < face_count; ++f) {
     ring.clear();
     for (int c = 0; c < 3; ++c) {
-      const auto v = static_cast<size_t>(triangles(f, c));
-      for (Eigen::Index i = vertex_offsets[v]; i < vertex_offsets[v + 1]; ++i) {
-        const Eigen::Index g = vertex_faces[static_cast<size_t>(i)];
-        if (patch_ids[static_cast<size_t>(g)] == patch_ids[static_cast<size_t>(f)])
-          ring.push_back(static_cast<int>(g));
+      for (const int* g = table.begin(triangles(f, c)); g != table.end(triangles(f, c)); ++g) {
+        if (patch_ids[static_cast<size_t>(*g)] == patch_ids[static_cast<size_t>(f)]) ring.push_back(*g);
       }
     }
     std::sort(ring.begin(), ring.end());

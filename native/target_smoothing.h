@@ -13,6 +13,7 @@
 // curvature still gathers on the seams.
 #pragma once
 
+#include "mesh_connectivity.h"
 #include "types.h"
 
 #include <Eigen/Core>
@@ -27,6 +28,8 @@ class TargetSmoother {
   // and lie in its patch (itself included).
   //   triangles: a validated mesh; patch_ids: one patch id per face.
   TargetSmoother(const Triangles& triangles, const std::vector<int>& patch_ids);
+  // The same from the faces around each vertex (validate_mesh's table).
+  TargetSmoother(const Triangles& triangles, const std::vector<int>& patch_ids, const VertexFaces& vertex_faces);
 
   // `rounds` passes of area-weighted averaging over the neighbourhoods, each
   // result renormalised to a unit vector.

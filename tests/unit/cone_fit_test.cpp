@@ -2,6 +2,8 @@
 // moments are additive.
 #include "cone_fit.h"
 
+#include "test_meshes.h"
+
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
@@ -9,11 +11,6 @@
 
 namespace developable {
 namespace {
-
-Eigen::Vector3d random_unit(std::mt19937& random) {
-  std::normal_distribution<double> g;
-  return Eigen::Vector3d(g(random), g(random), g(random)).normalized();
-}
 
 // `count` normals on the cone (axis, angle), at random azimuths, random weights.
 NormalMoments cone_normals(const Eigen::Vector3d& axis, double angle, int count, std::mt19937& random) {
@@ -30,7 +27,7 @@ NormalMoments cone_normals(const Eigen::Vector3d& axis, double angle, int count,
 TEST(ConeFit, RecoversExactCones) {
   std::mt19937 random(5);
   for (int trial = 0; trial < 50; ++trial) {
-    const Eigen::Vector3d axis = random_unit(random);
+    const Eigen::Vector3d axis = test::random_unit(random);
     const double angle = std::uniform_real_distribution<double>(0.1, M_PI / 2)(random);
     const ConeFit fit = fit_cone(cone_normals(axis, angle, 40, random));
     EXPECT_NEAR(fit.cone.axis.dot(axis), 1.0, 1e-9) << "trial " << trial;
@@ -71,6 +68,20 @@ TEST(ConeFit, MomentsAreAdditive) {
   both += b;
   EXPECT_DOUBLE_EQ(both.weight, a.weight + b.weight);
   EXPECT_NEAR(fit_cone(both).cone.angle, 0.7, 1e-7);
+}
+
+TEST(ConeFit, PlaneFitAxisOfAFullCylinderIsDeterministic) {
+  // A great circle's mean is ~0: the axis gets its largest component positive.
+  NormalMoments m;
+  for (int i = 0; i < 64; ++i) {
+    const double t = 2 * M_PI * i / 64;
+    m.add(Eigen::Vector3d(std::cos(t), 0.0, std::sin(t)), 1.0);
+  }
+  const Eigen::Vector3d mean = m.sum / m.weight;
+  const NormalPlaneFit fit = fit_normal_plane(mean, m.outer / m.weight - mean * mean.transpose());
+  EXPECT_TRUE(fit.found);
+  EXPECT_NEAR(fit.axis.y(), 1.0, 1e-12);
+  EXPECT_NEAR(fit.eigenvalues(0), 0.0, 1e-15);
 }
 
 TEST(ConeFit, AngleToCone) {

@@ -3,6 +3,8 @@
 // random normals and random (also wrong-sized or garbage) hints.
 #include "curve_search.h"
 
+#include "test_meshes.h"
+
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
@@ -11,19 +13,14 @@
 namespace developable {
 namespace {
 
-Eigen::Vector3d random_unit(std::mt19937& random) {
-  std::normal_distribution<double> g;
-  return Eigen::Vector3d(g(random), g(random), g(random)).normalized();
-}
-
 // A random walk on the sphere: `count` points, steps of about `step` rad.
 SphereCurve random_curve(std::mt19937& random, int count, double step, bool closed) {
   SphereCurve c;
   c.closed = closed;
-  Eigen::Vector3d p = random_unit(random);
+  Eigen::Vector3d p = test::random_unit(random);
   for (int i = 0; i < count; ++i) {
     c.points.push_back(p);
-    p = (p + step * random_unit(random)).normalized();
+    p = (p + step * test::random_unit(random)).normalized();
   }
   return c;
 }
@@ -74,7 +71,7 @@ TEST(CurveSearch, ExactWhateverTheHints) {
     const CurveSearch search(curves);
     const int rows = trial < 2 ? 20000 : 700;  // the first two split over threads
     Normals normals(rows, 3);
-    for (int i = 0; i < rows; ++i) normals.row(i) = (random_unit(random) * (0.5 + i % 3)).transpose();
+    for (int i = 0; i < rows; ++i) normals.row(i) = (test::random_unit(random) * (0.5 + i % 3)).transpose();
     const Normals plain = search.nearest(normals);
     // Hints: none, random arc numbers (some out of range or negative), the
     // last answers, and a vector of the wrong size.

@@ -11,18 +11,12 @@
 namespace developable {
 namespace {
 
-Eigen::Vector3d random_unit(std::mt19937& random) {
-  std::normal_distribution<double> g;
-  Eigen::Vector3d v(g(random), g(random), g(random));
-  return v.normalized();
-}
-
 TEST(GaussChart, ToSphereInvertsToChart) {
   std::mt19937 random(1);
   for (int trial = 0; trial < 20; ++trial) {
-    const GaussChart chart(random_unit(random));
+    const GaussChart chart(test::random_unit(random));
     for (int i = 0; i < 500; ++i) {
-      const Eigen::Vector3d n = random_unit(random);
+      const Eigen::Vector3d n = test::random_unit(random);
       if (n.dot(chart.pole()) < -0.999) continue;  // next to the antipode the chart squeezes
       const Eigen::Vector2d p = chart.to_chart(n);
       EXPECT_LE(p.norm(), 2.0);
@@ -35,7 +29,7 @@ TEST(GaussChart, ToChartInvertsToSphereInsideTheDisc) {
   std::mt19937 random(2);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
   for (int trial = 0; trial < 20; ++trial) {
-    const GaussChart chart(random_unit(random));
+    const GaussChart chart(test::random_unit(random));
     for (int i = 0; i < 500; ++i) {
       const Eigen::Vector2d p(u(random), u(random));
       if (p.norm() > 1.99) continue;
@@ -72,9 +66,9 @@ TEST(GaussChart, RefusesABadPole) {
 
 TEST(GaussChart, PoleOfACapIsItsMeanNormal) {
   std::mt19937 random(3);
-  const Eigen::Vector3d centre = random_unit(random);
+  const Eigen::Vector3d centre = test::random_unit(random);
   Normals n(200, 3);
-  for (int i = 0; i < 200; ++i) n.row(i) = (centre + 0.3 * random_unit(random)).normalized().transpose();
+  for (int i = 0; i < 200; ++i) n.row(i) = (centre + 0.3 * test::random_unit(random)).normalized().transpose();
   const Eigen::VectorXd w = Eigen::VectorXd::Ones(200);
   const Eigen::Vector3d mean = (n.transpose() * w).normalized();
   EXPECT_LT((choose_chart_pole(n, w) - mean).norm(), 1e-12);
@@ -85,7 +79,7 @@ TEST(GaussChart, PoleOfACylinderIsItsAxis) {
   // way the cylinder lies.
   std::mt19937 random(4);
   for (int trial = 0; trial < 5; ++trial) {
-    const Eigen::Vector3d axis = random_unit(random);
+    const Eigen::Vector3d axis = test::random_unit(random);
     const Eigen::Vector3d e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
     Normals n(64, 3);
     for (int i = 0; i < 64; ++i) {

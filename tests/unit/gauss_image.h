@@ -4,6 +4,7 @@
 // [0, sweep), with random weights.
 #pragma once
 
+#include "test_meshes.h"
 #include "types.h"
 
 #include <Eigen/Geometry>
@@ -18,11 +19,6 @@ struct GaussImage {
   Eigen::Vector3d axis;
   double angle = 0.0;
 };
-
-inline Eigen::Vector3d random_unit(std::mt19937& random) {
-  std::normal_distribution<double> g;
-  return Eigen::Vector3d(g(random), g(random), g(random)).normalized();
-}
 
 inline GaussImage cone_gauss_image(unsigned seed, double angle, double sweep = 2 * M_PI, int count = 2000) {
   std::mt19937 random(seed);

@@ -79,6 +79,12 @@ inline Mesh cube() {
   return m;
 }
 
+// A random unit vector, uniform on the sphere.
+inline Eigen::Vector3d random_unit(std::mt19937& random) {
+  std::normal_distribution<double> g;
+  return Eigen::Vector3d(g(random), g(random), g(random)).normalized();
+}
+
 // Uniform noise of `amplitude` on every coordinate, seeded.
 inline void add_noise(Positions& positions, double amplitude, unsigned seed) {
   std::mt19937 random(seed);

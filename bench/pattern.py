@@ -24,10 +24,9 @@ import numpy as np
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-sys.path.insert(0, str(REPO / "tests"))
 
-from devkit import machine, paths  # noqa: E402
-import meshgen  # noqa: E402
+from devkit import machine, meshes, paths  # noqa: E402
+from devkit.obj import read_obj  # noqa: E402
 
 BEGIN, END = "<!-- bench/pattern.py: begin -->", "<!-- bench/pattern.py: end -->"
 
@@ -36,7 +35,7 @@ def band(faces):
     """An exact developable of about `faces` triangles: a curved fold with
     rows x cols vertices, cols = 4 rows."""
     rows = max(3, int(round(np.sqrt(faces / 8.0))))
-    return meshgen.curved_fold(seed=5, rows=rows, cols=4 * rows)
+    return meshes.curved_fold(seed=5, rows=rows, cols=4 * rows)
 
 
 def time_case(native, name, pos, tri, patches, params, repeats):
@@ -79,7 +78,7 @@ def main():
     info = machine.machine_info(pathlib.Path(args.build), library)
 
     rows = []
-    woman_pos, woman_tri = meshgen.read_obj(paths.MESHES / "human_woman.obj")
+    woman_pos, woman_tri = read_obj(paths.MESHES / "human_woman.obj")
     start = time.perf_counter()
     result = native.run(woman_pos, woman_tri)
     engine_s = time.perf_counter() - start
@@ -88,7 +87,7 @@ def main():
     rows.append(time_case(native, "human_woman after the engine (%d patches)" % result.stats["patches"],
                           *woman, auto, 3))
     rows.append(time_case(native, "human_woman base mesh, one patch", woman_pos, woman_tri, None, auto, 1))
-    cone = meshgen.curved_cone()
+    cone = meshes.curved_cone()
     rows.append(time_case(native, "curved cone (paper, Fig. 3) as it is", *cone, None, auto, 3))
     cone_result = native.run(*cone)
     cone_after = (cone_result.positions, cone[1], cone_result.patch_ids)

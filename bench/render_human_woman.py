@@ -21,6 +21,9 @@ import sys
 import bpy
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # devkit
+from devkit.blender import workbench_scene  # noqa: E402
+
 SIZE = 800
 LOW, HIGH = 1e-4, 1e-1          # rad: the ends of the log colour scale
 BOUNDARY = (0.55, 0.55, 0.55)   # the add-on's colour where the defect is undefined
@@ -149,23 +152,8 @@ def setup_scene(centre, span, front_z):
     scene = bpy.context.scene
     for ob in list(scene.objects):
         bpy.data.objects.remove(ob, do_unlink=True)
-    scene.render.engine = 'BLENDER_WORKBENCH'
-    scene.render.resolution_x = scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
-    scene.render.image_settings.file_format = 'PNG'
-    scene.render.image_settings.color_mode = 'RGB'
+    workbench_scene(scene, SIZE, SIZE, BACKGROUND)
     scene.render.image_settings.compression = 100
-    scene.display.render_aa = '8'
-    shading = scene.display.shading
-    shading.light = 'STUDIO'
-    shading.color_type = 'VERTEX'
-    shading.show_backface_culling = False
-    shading.show_cavity = False
-    shading.show_specular_highlight = False
-    scene.view_settings.view_transform = 'Standard'
-    world = scene.world or bpy.data.worlds.new("World")
-    scene.world = world
-    world.color = BACKGROUND
     cam_data = bpy.data.cameras.new("camera")
     cam_data.type = 'ORTHO'
     cam_data.ortho_scale = span

@@ -158,22 +158,11 @@ def export(ob, path):
 def render_before_after(ob, prefix, addon):
     """Two Workbench renders coloured by the defect (same colour scale)."""
     from mathutils import Vector
+    if REPO not in sys.path:
+        sys.path.insert(0, REPO)
+    from devkit.blender import workbench_scene
     scene = bpy.context.scene
-    scene.render.engine = 'BLENDER_WORKBENCH'
-    scene.render.resolution_x, scene.render.resolution_y = 1024, 768
-    scene.render.resolution_percentage = 100
-    scene.render.image_settings.file_format = 'PNG'
-    shading = scene.display.shading
-    shading.light = 'STUDIO'
-    shading.color_type = 'VERTEX'
-    shading.show_backface_culling = False
-    shading.show_cavity = False
-    scene.display.render_aa = '8'
-    if hasattr(scene.view_settings, "view_transform"):
-        scene.view_settings.view_transform = 'Standard'
-    world = scene.world or bpy.data.worlds.new("World")
-    scene.world = world
-    world.color = (0.05, 0.05, 0.06)
+    workbench_scene(scene, 1024, 768, (0.05, 0.05, 0.06))
 
     corners = [ob.matrix_world @ Vector(c) for c in ob.bound_box]
     centre = sum(corners, Vector()) / 8.0

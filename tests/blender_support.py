@@ -88,6 +88,17 @@ def scenario(env, name, *extra, xvfb=False, timeout=300):
     return res[-1]
 
 
+def several(env, *specs, timeout=600):
+    """Runs background scenarios ("NAME [ARGS]") one after another in one
+    Blender start-up; returns {spec: its RESULT dict}."""
+    proc = run_blender(["--python", str(SCENARIOS), "--", "several", *specs], env, timeout=timeout)
+    res = results(proc)
+    assert len(res) == len(specs), "scenarios %s printed %d RESULTs\nstdout:\n%s\nstderr:\n%s" % (
+        specs, len(res), proc.stdout[-6000:], proc.stderr[-4000:])
+    assert "traceback" not in proc.stderr.lower(), proc.stderr[-4000:]
+    return dict(zip(specs, res))
+
+
 def build_addon_zip(build_dir):
     subprocess.run(["cmake", "--build", str(build_dir), "--target", "addon_zip"],
                    check=True, capture_output=True, text=True)

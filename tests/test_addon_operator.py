@@ -9,12 +9,19 @@ import subprocess
 import pytest
 
 from blender_support import (MODULE, addon_zip, any_blender_env, blender_env,  # noqa: F401
-                             install_zip,
-                             installed_addon_dir, scenario)
+                             install_zip, installed_addon_dir, scenario, several)
+
+# The background scenarios of this file, run in one start-up of each Blender.
+SHARED = ("run", "rerun", "cancel 0", "cancel 3", "pins", "bad")
 
 
-def test_noisy_mesh_gets_a_more_developable_shape_key(any_blender_env):
-    r = scenario(any_blender_env, "run")
+@pytest.fixture(scope="module")
+def shared(any_blender_env):
+    return several(any_blender_env, *SHARED)
+
+
+def test_noisy_mesh_gets_a_more_developable_shape_key(shared):
+    r = shared["run"]
     assert r["result"] == ["FINISHED"], r["error"]
     assert r["state"]["keys"] == ["Basis", "Developable"]
     assert r["base_unchanged"]
@@ -39,8 +46,8 @@ def test_noisy_mesh_gets_a_more_developable_shape_key(any_blender_env):
     assert 0 <= r["patch_domain"][3] <= r["patch_domain"][4] < max(1, r["stats"]["patches"])
 
 
-def test_rerun_replaces_the_one_shape_key(any_blender_env):
-    r = scenario(any_blender_env, "rerun")
+def test_rerun_replaces_the_one_shape_key(shared):
+    r = shared["rerun"]
     assert r["results"] == [["FINISHED"]] * 3
     assert r["keys"] == ["Basis", "Developable"]
     assert r["base_unchanged"]
@@ -49,8 +56,8 @@ def test_rerun_replaces_the_one_shape_key(any_blender_env):
 
 
 @pytest.mark.parametrize("cancel_after", [0, 3])
-def test_cancel_leaves_nothing_behind(any_blender_env, cancel_after):
-    r = scenario(any_blender_env, "cancel", cancel_after)
+def test_cancel_leaves_nothing_behind(shared, cancel_after):
+    r = shared["cancel %d" % cancel_after]
     assert r["result"] == ["CANCELLED"]
     assert r["last_run"]["status"] == "CANCELLED"
     assert r["state_after"] == r["state_before"]
@@ -58,8 +65,8 @@ def test_cancel_leaves_nothing_behind(any_blender_env, cancel_after):
     assert r["base_unchanged"]
 
 
-def test_pins_hold(any_blender_env):
-    r = scenario(any_blender_env, "pins")
+def test_pins_hold(shared):
+    r = shared["pins"]
     for kind in ("group", "boundary", "selection"):
         assert r[kind]["result"] == ["FINISHED"], (kind, r[kind]["error"])
         assert r[kind]["pinned_move"] < 1e-6, kind
@@ -78,8 +85,8 @@ EXPECTED = {
 }
 
 
-def test_bad_meshes_are_reported_and_untouched(any_blender_env):
-    r = scenario(any_blender_env, "bad")
+def test_bad_meshes_are_reported_and_untouched(shared):
+    r = shared["bad"]
     for kind, status in EXPECTED.items():
         case = r[kind]
         assert case["result"] == ["CANCELLED"], kind

@@ -312,40 +312,44 @@ def s_undo_bits():
 def s_modal_cancel_bits():
     watch = sc.EngineWatch(cancel_after=int(ARGS[1]))
 
-    def go():
-        with bpy.context.temp_override(**_window_override()):
-            ob = decorate(sc.fresh("cone_band"), earlier_run=True)
-            before = snapshot(ob)
-            watch.__enter__()  # until the process ends
-            started = sorted(bpy.ops.mesh.make_developable('INVOKE_DEFAULT'))
-        waited = [0]
+    def prepare():
+        return snapshot(decorate(sc.fresh("cone_band"), earlier_run=True))
 
-        def poll():
-            waited[0] += 1
-            if not watch.modal_finished and waited[0] < 600:
-                return 0.1
-            after = snapshot(bpy.data.objects["cone_band"])
-            sc._finish({"started": started, "last_run": watch.outcome(),
-                        "unchanged": after == before,
-                        "diff": [k for k in before if before[k] != after.get(k)]})
-        bpy.app.timers.register(poll, first_interval=0.1)
-    sc._in_window(go)
+    def report(started, before):
+        after = snapshot(bpy.data.objects["cone_band"])
+        return {"started": started, "last_run": watch.outcome(), "unchanged": after == before,
+                "diff": [k for k in before if before[k] != after.get(k)]}
+    sc.modal_run(watch, prepare, report)
 
 
-globals()["s_" + ARGS[0]]()
+for name in ARGS[0].split(","):  # several background scenarios: one Blender start-up
+    globals()["s_" + name]()
 '''
 
 
-def run_scenario(env, tmp_path_factory, name, *extra, xvfb=False, timeout=600):
+def run_scenarios(env, tmp_path_factory, names, *extra, xvfb=False, timeout=900):
+    """Runs the HARDENING scenarios `names` ("a,b,c": one after another in one
+    Blender start-up); returns their RESULT dicts in order."""
     script = tmp_path_factory.mktemp("hardening") / "hardening_scenarios.py"
     script.write_text(HARDENING % {"scripts": str(SCRIPTS)})
-    proc = run_blender(["--python", str(script), "--", name] + [str(e) for e in extra], env,
+    proc = run_blender(["--python", str(script), "--", names] + [str(e) for e in extra], env,
                        timeout=timeout, xvfb=xvfb)
     out = results(proc)
-    assert out, "scenario %s printed no RESULT\n%s\n%s" % (name, proc.stdout[-5000:],
-                                                          proc.stderr[-3000:])
+    assert len(out) == len(names.split(",")), "scenarios %s printed %d RESULTs\n%s\n%s" % (
+        names, len(out), proc.stdout[-5000:], proc.stderr[-3000:])
     assert "traceback" not in proc.stderr.lower(), proc.stderr[-4000:]
-    return out[-1]
+    return out
+
+
+def run_scenario(env, tmp_path_factory, name, *extra, xvfb=False, timeout=600):
+    return run_scenarios(env, tmp_path_factory, name, *extra, xvfb=xvfb, timeout=timeout)[-1]
+
+
+@pytest.fixture(scope="module")
+def background(blender_env, tmp_path_factory):
+    """The background scenarios of this file, in one Blender start-up."""
+    return dict(zip(("bad", "good", "cancel_everywhere"),
+                    run_scenarios(blender_env, tmp_path_factory, "bad,good,cancel_everywhere")))
 
 
 BAD_CASES = ["no vertices", "one triangle", "single quad", "inf coordinate", "zero area",
@@ -354,8 +358,8 @@ BAD_CASES = ["no vertices", "one triangle", "single quad", "inf coordinate", "ze
 
 
 @pytest.fixture(scope="module")
-def bad(blender_env, tmp_path_factory):
-    return run_scenario(blender_env, tmp_path_factory, "bad")
+def bad(background):
+    return background["bad"]
 
 
 @pytest.mark.parametrize("case", BAD_CASES)
@@ -370,8 +374,8 @@ def test_bad_mesh_is_reported_and_the_object_untouched(bad, case):
 
 
 @pytest.fixture(scope="module")
-def good(blender_env, tmp_path_factory):
-    return run_scenario(blender_env, tmp_path_factory, "good")
+def good(background):
+    return background["good"]
 
 
 def test_several_components_are_all_processed(good):
@@ -399,8 +403,8 @@ def test_scaled_object_gives_the_same_relative_result(good, scale):
 
 
 @pytest.fixture(scope="module")
-def cancelled(blender_env, tmp_path_factory):
-    return run_scenario(blender_env, tmp_path_factory, "cancel_everywhere")
+def cancelled(background):
+    return background["cancel_everywhere"]
 
 
 @pytest.mark.parametrize("kind", ["first", "earlier"])

@@ -1,8 +1,10 @@
 """Blender-side test scenarios for the add-on (run by tests/test_addon_*.py):
 
   blender -b --factory-startup --python scenarios.py -- NAME [ARGS]
+  blender -b --factory-startup --python scenarios.py -- several "NAME [ARGS]" ...
 
-Each prints RESULT {json}. The add-on module is "developable_mesh" (installed
+Each prints RESULT {json}; "several" runs background scenarios one after
+another in one Blender start-up (each starts from fresh objects). The add-on module is "developable_mesh" (installed
 from the zip into BLENDER_USER_SCRIPTS by the pytest fixture)."""
 import importlib
 import json
@@ -17,6 +19,7 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2]))  # the repository: devkit
 from devkit import blender as dk_blender, meshes as dk_meshes  # noqa: E402
+from devkit.measures import angle_defects  # noqa: E402
 
 MODULE = "developable_mesh"
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
@@ -137,23 +140,6 @@ def triangles(mesh):
     return t.reshape(-1, 3)
 
 
-def angle_defect(p, tris):
-    """(defect per vertex, interior mask): 2 pi - sum of corner angles."""
-    p = p.astype(np.float64)
-    n = len(p)
-    total = np.zeros(n)
-    for k in range(3):
-        a, b, c = tris[:, k], tris[:, (k + 1) % 3], tris[:, (k + 2) % 3]
-        u, v = p[b] - p[a], p[c] - p[a]
-        cos = (u * v).sum(1) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
-        np.add.at(total, a, np.arccos(np.clip(cos, -1, 1)))
-    edges = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
-    uniq, count = np.unique(edges, axis=0, return_counts=True)
-    interior = np.ones(n, dtype=bool)
-    interior[uniq[count == 1].ravel()] = False
-    return 2 * np.pi - total, interior
-
-
 def state(ob):
     """Everything the add-on may have written, for before/after comparisons."""
     me = ob.data
@@ -184,7 +170,6 @@ def s_install():
     defaults = native.default_params() if lib else {}
     op_props = bpy.ops.mesh.make_developable.get_rna_type().properties
     props = operators.MESH_OT_make_developable
-    values = {}
     rna = bpy.context.scene.developable
     from_props = sub("properties").engine_values(rna)
     emit({
@@ -212,8 +197,8 @@ def s_run():
     res, err = run_op()
     me = ob.data
     tris = triangles(me)
-    d_before, interior = angle_defect(base, tris)
-    d_after, _ = angle_defect(key_coords(ob), tris)
+    d_before, interior = angle_defects(base.astype(np.float64), tris)
+    d_after, _ = angle_defects(key_coords(ob).astype(np.float64), tris)
     stored_b = attr_values(me, "defect_before")
     stored_a = attr_values(me, "defect_after")
     col_b = attr_values(me, "Defect Before")
@@ -291,7 +276,7 @@ def s_pins():
     # boundary
     ob = fresh("cone_band")
     base = coords(ob.data).copy()
-    _, interior = angle_defect(base, triangles(ob.data))
+    _, interior = angle_defects(base.astype(np.float64), triangles(ob.data))
     res, err = run_op(pin_boundary=True)
     k = key_coords(ob)
     out["boundary"] = {"result": res, "error": err,
@@ -420,16 +405,15 @@ def s_undo():
     _in_window(go)
 
 
-def s_modal():
-    """The interactive path: INVOKE_DEFAULT -> worker thread + modal progress."""
-    watch = EngineWatch(cancel_after=int(ARGS[1]) if len(ARGS) > 1 else -1)
-
+def modal_run(watch, prepare, report):
+    """In a window: prepare() (inside a window override; returns what report
+    needs), start the operator INVOKE_DEFAULT with `watch` on (until the
+    process ends), wait until its modal run has finished (up to a minute),
+    then emit report(started, prepared) and exit."""
     def go():
         with bpy.context.temp_override(**_window_override()):
-            ob = fresh("cone_band")
-            base = coords(ob.data).copy()
-            before = state(ob)
-            watch.__enter__()  # until the process ends
+            prepared = prepare()
+            watch.__enter__()
             started = sorted(bpy.ops.mesh.make_developable('INVOKE_DEFAULT'))
         waited = [0]
 
@@ -437,15 +421,36 @@ def s_modal():
             waited[0] += 1
             if not watch.modal_finished and waited[0] < 600:
                 return 0.1
-            ob = bpy.data.objects["cone_band"]
-            _finish({"started": started, "last_run": watch.outcome(),
-                     "state_before": before, "state_after": state(ob),
-                     "base_unchanged": bool(np.array_equal(coords(ob.data), base))})
+            _finish(report(started, prepared))
         bpy.app.timers.register(poll, first_interval=0.1)
     _in_window(go)
+
+
+def s_modal():
+    """The interactive path: INVOKE_DEFAULT -> worker thread + modal progress."""
+    watch = EngineWatch(cancel_after=int(ARGS[1]) if len(ARGS) > 1 else -1)
+
+    def prepare():
+        ob = fresh("cone_band")
+        return coords(ob.data).copy(), state(ob)
+
+    def report(started, prepared):
+        base, before = prepared
+        ob = bpy.data.objects["cone_band"]
+        return {"started": started, "last_run": watch.outcome(), "state_before": before,
+                "state_after": state(ob),
+                "base_unchanged": bool(np.array_equal(coords(ob.data), base))}
+    modal_run(watch, prepare, report)
 
 
 SCENARIOS = {name[2:]: fn for name, fn in globals().items() if name.startswith("s_")}
 
 if __name__ == "__main__":
-    SCENARIOS[ARGS[0]]()
+    if ARGS[0] == "several":
+        # Background scenarios one after another in this one Blender (one
+        # start-up), one RESULT each, in order:  -- several run "cancel 3" ...
+        for spec in ARGS[1:]:
+            ARGS[:] = spec.split()
+            SCENARIOS[ARGS[0]]()
+    else:
+        SCENARIOS[ARGS[0]]()

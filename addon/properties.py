@@ -182,8 +182,8 @@ def engine_property_definitions():
             name="Target Smoothing", default=1, min=0, max=100, soft_max=5, update=u,
             description="Rounds of averaging each face's target direction with its neighbours' "
             "in the same piece, so that a piece curved both ways follows a smooth target instead "
-            "of crumpling. Automatic: one round on a split mesh; on one piece none, then one if "
-            "the run stalls with much curvature left"),
+            "of crumpling. Automatic: one round on a split mesh; on one piece none, then "
+            "averaging along the rulings if the run stalls with much curvature left"),
     }
 
 

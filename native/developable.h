@@ -113,8 +113,9 @@ typedef struct dev_params {
                                  uses the coupled system, as the paper does. */
   int32_t target_smoothing;   /* rounds of averaging the target normals over neighbouring faces of
                                  the same patch, 0-100; -1 = automatic (default): in the refit mode 1
-                                 on a segmented mesh; on one patch 0, then 1 from the best iterate
-                                 if the run stalls with more than 10 % of its curvature left. */
+                                 on a segmented mesh; on one patch 0, and if the run stalls with
+                                 more than 10 % of its curvature left it goes on from the best
+                                 iterate with the targets averaged along the rulings instead. */
 } dev_params;
 
 typedef struct dev_stats {

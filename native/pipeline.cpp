@@ -41,6 +41,18 @@ constexpr double kSegmentedStallImprovement = 0.01;
 // docs/method.md, "Target smoothing on single patches".
 constexpr double kSmoothedPhaseShare = 0.1;
 
+// How much farther (RMS over the vertices) than the first phase's best the
+// second phase may move the mesh from the input.
+constexpr double kSecondPhaseMove = 2.0;
+
+double rms_move(const Positions& a, const Positions& b) {
+  return std::sqrt((a - b).rowwise().squaredNorm().mean());
+}
+
+// Rounds of averaging along the rulings in the second phase (automatic
+// ruling_smoothing).
+constexpr int kRulingRounds = 2;
+
 double elapsed_ms(Clock::time_point since) {
   return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
 }
@@ -286,6 +298,8 @@ void check_options(const PipelineOptions& o) {
   require(o.curve_options.grid_resolution == 0 ||
               (o.curve_options.grid_resolution >= 16 && o.curve_options.grid_resolution <= 2048),
           "grid_resolution must be 0 (automatic) or between 16 and 2048");
+  require(o.ruling_smoothing >= -1 && o.ruling_smoothing <= 100,
+          "ruling_smoothing must be -1 (automatic) or between 0 and 100");
   require(o.threads >= 0 && o.threads <= 256, "threads must be 0 (automatic) or between 1 and 256");
 }
 
@@ -461,6 +475,14 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   bool smoothed_phase_pending =
       options.target_smoothing < 0 && !piecewise && options.mode == Mode::refit;
   std::optional<TargetSmoother> smoother;
+  // Targets averaged along the rulings (TargetSmoother::smooth_along_rulings).
+  int ruling_rounds = std::max(options.ruling_smoothing, 0);
+  std::optional<TargetSmoother> ruling_smoother;
+  if (ruling_rounds > 0) {
+    ruling_smoother.emplace(triangles, result.patch_ids, connectivity);
+    result.target_normals = ruling_smoother->smooth_along_rulings(result.target_normals, positions, triangles,
+                                                                  areas_before, ruling_rounds);
+  }
   if (smoothing_rounds > 0) {
     smoother.emplace(triangles, result.patch_ids, connectivity);
     result.target_normals = smoother->smooth(result.target_normals, areas_before, smoothing_rounds);
@@ -520,7 +542,9 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   // Face normals of `current`, shared by the fold check, the refit, the
   // projection and the step (the input's at the first iteration).
   Normals normals = normals_before;
-  bool refit_next = false;  // the second phase refits on the iterate it restarts from
+  bool refit_next = false;
+  bool second_phase = false;
+  double first_phase_flat = 0.0, first_phase_move = 0.0;  // the second phase refits on the iterate it restarts from
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report(0.1 + 0.9 * (iteration - 1) / options.max_iterations, "deformation");
     if (mode == Mode::refit && iteration > 1) {
@@ -529,12 +553,15 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
       const bool refit = refit_next || (iteration - 1) % options.refit_interval == 0;
       refit_next = false;
       const Eigen::VectorXd areas =
-          refit || smoothing_rounds > 0 ? face_areas(current, triangles) : Eigen::VectorXd();
+          refit || smoothing_rounds > 0 || ruling_rounds > 0 ? face_areas(current, triangles) : Eigen::VectorXd();
       if (refit) {
         result.curves = fit_patch_curves(normals, areas, patches, options.curve_options);
         searches = patch_curve_searches(result.curves, patch_count);
       }
       result.target_normals = patch_target_normals(normals, patches, searches, &hints, options.threads);
+      if (ruling_smoother)
+        result.target_normals = ruling_smoother->smooth_along_rulings(result.target_normals, current, triangles,
+                                                                      areas, ruling_rounds);
       if (smoother) result.target_normals = smoother->smooth(result.target_normals, areas, smoothing_rounds);
       const auto refactor_start = Clock::now();
       deformation.set_targets(result.target_normals);
@@ -601,7 +628,13 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
       if (defect_grew) ++rejected.defect_grew;
       if (flat_share_fell) ++rejected.flat_share_fell;
     }
-    if (!folded && !defect_grew && !flat_share_fell && score < best_score) {
+    // The second phase may not trade the shape for the score: its iterates
+    // must keep the first phase's best flat share and move the mesh (RMS)
+    // at most kSecondPhaseMove times as far from the input.
+    const bool second_phase_worse =
+        second_phase && (flat < first_phase_flat ||
+                         rms_move(current, positions) > kSecondPhaseMove * first_phase_move);
+    if (!folded && !defect_grew && !flat_share_fell && !second_phase_worse && score < best_score) {
       improved = true;
       best_score = score;
       result.positions = current;
@@ -634,8 +667,19 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
             improvement * best_history[best_history.size() - 1 - window]) {
       if (smoothed_phase_pending && best_score > kSmoothedPhaseShare * input_score) {
         smoothed_phase_pending = false;
-        smoothing_rounds = 1;
-        smoother.emplace(triangles, result.patch_ids, connectivity);
+        second_phase = true;
+        if (options.ruling_smoothing < 0) {
+          // Targets averaged along the rulings, not across them: the
+          // isotropic average of target_smoothing flattened wavy shapes
+          // (issue 11; docs/families.md).
+          ruling_rounds = kRulingRounds;
+          ruling_smoother.emplace(triangles, result.patch_ids, connectivity);
+        } else {
+          smoothing_rounds = 1;
+          smoother.emplace(triangles, result.patch_ids, connectivity);
+        }
+        first_phase_flat = stats.flat_share_after;
+        first_phase_move = std::max(rms_move(result.positions, positions), 0.05 * ae);
         // Restart from the best iterate, with curves fitted on it (not on
         // the last iterate, which may have crumpled).
         current = result.positions;

@@ -65,9 +65,15 @@ struct PipelineOptions {
   IdealCurveOptions curve_options;
   // Rounds of target normal smoothing inside each patch (target_smoothing.h);
   // -1 automatic: in the refit mode 1 on a segmented mesh; on one patch 0,
-  // then 1 from the best iterate if the run stalls with more than 10 % of its
-  // score left (kSmoothedPhaseShare in pipeline.cpp).
+  // and if the run stalls with more than 10 % of its score left
+  // (kSmoothedPhaseShare in pipeline.cpp) it goes on from the best iterate
+  // with the targets averaged along the rulings (ruling_smoothing below).
   int target_smoothing = -1;
+  // Rounds of averaging each target along its ruling within its curve
+  // (TargetSmoother::smooth_along_rulings) in every iteration; -1 automatic:
+  // none, and 2 (instead of target_smoothing's one isotropic round) in the
+  // second phase of a stalled one-patch run.
+  int ruling_smoothing = -1;
   // Threads of the target search (curve_search.h); 0: the machine's, at most
   // 8. The result is bit-identical whatever the count.
   int threads = 0;

@@ -1,0 +1,134 @@
+"""The family table of issue 11: the engine on seeded random developables
+(devkit/families.py) with their noise-free twins, through the command-line
+tool with its defaults.
+
+    /usr/bin/python3 bench/families.py                       # build/bin/developable
+    /usr/bin/python3 bench/families.py --tool OTHER/bin/developable --label before
+    /usr/bin/python3 bench/families.py --write docs/families.md   # (re)writes the table there
+
+Per family and triangulation, over the seeds (default 100-102, not the
+tuning seeds 0-9; faces 500-5000 log-uniform, noise 0.5-5 % AE log-uniform):
+  dE      mean |defect| change, %: median over the seeds (worst in brackets)
+  flat    share of interior vertices with |defect| < 1e-3 rad after: median (lowest)
+  H/H0    Hausdorff distance of the result to the twin over the input's: median (largest)
+  folds   faces turned over (normal > 90 degrees from the input's), summed
+  unch.   runs that returned the input unchanged
+"""
+import argparse
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+REPO = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+from devkit import families  # noqa: E402
+from devkit.distance import sampled_hausdorff  # noqa: E402
+from devkit.obj import read_obj, write_obj  # noqa: E402
+
+
+angle_defects = families.angle_defects
+face_normals = families.face_normals
+
+
+def measure(mesh, tool, work):
+    """One run: the figures of the table for one FamilyMesh."""
+    src, dst, report = work / "in.obj", work / "out.obj", work / "r.json"
+    write_obj(src, mesh.positions, mesh.triangles)
+    start = time.perf_counter()
+    run = subprocess.run([str(tool), str(src), str(dst), "--quiet", "--report", str(report)],
+                         capture_output=True, text=True)
+    seconds = time.perf_counter() - start
+    if run.returncode != 0:
+        return {"error": run.stderr.strip()[-200:]}
+    out, _ = read_obj(dst)
+    d0, interior = angle_defects(mesh.positions, mesh.triangles)
+    d1, _ = angle_defects(out, mesh.triangles)
+    e0, e1 = np.abs(d0[interior]).mean(), np.abs(d1[interior]).mean()
+    turned = int(np.sum(np.einsum("ij,ij->i", face_normals(mesh.positions, mesh.triangles),
+                                  face_normals(out, mesh.triangles)) < 0))
+    h0 = sampled_hausdorff(mesh.positions, mesh.triangles, mesh.clean, mesh.triangles)
+    h1 = sampled_hausdorff(out, mesh.triangles, mesh.clean, mesh.triangles)
+    stats = json.loads(report.read_text())["stats"]
+    return {"dE": 100.0 * (e1 - e0) / e0, "flat": float(np.mean(np.abs(d1[interior]) < 1e-3)),
+            "H_ratio": h1 / max(h0, 1e-300), "turned": turned,
+            "unchanged": bool(np.array_equal(out, mesh.positions)) or stats.get("result") == "unchanged",
+            "faces": len(mesh.triangles), "noise": mesh.noise, "seconds": seconds}
+
+
+def rows_of(results):
+    """Aggregated table rows: (family, triangulation) -> summary strings."""
+    rows = []
+    for (family, triangulation), runs in results.items():
+        good = [r for r in runs if "error" not in r]
+        if not good:
+            rows.append((family, triangulation, "error", "", "", "", ""))
+            continue
+        de = np.array([r["dE"] for r in good])
+        flat = np.array([r["flat"] for r in good])
+        ratio = np.array([r["H_ratio"] for r in good])
+        rows.append((family, triangulation,
+                     "%.1f (%.1f)" % (np.median(de), de.max()),
+                     "%.0f %% (%.0f %%)" % (100 * np.median(flat), 100 * flat.min()),
+                     "%.2f (%.2f)" % (np.median(ratio), ratio.max()),
+                     "%d" % sum(r["turned"] for r in good),
+                     "%d/%d" % (sum(r["unchanged"] for r in good), len(runs))))
+    return rows
+
+
+def table(rows, label):
+    lines = ["| family | triangulation | dE % median (worst) | flat median (lowest) | "
+             "H/H0 median (largest) | folds | unchanged |", "|---|---|---|---|---|---|---|"]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "**%s**\n\n" % label + "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--tool", default=str(REPO / "build" / "bin" / "developable"))
+    ap.add_argument("--seeds", default="100-102", help="first-last (inclusive)")
+    ap.add_argument("--families", default=",".join(families.FAMILIES))
+    ap.add_argument("--triangulations", default=",".join(families.TRIANGULATIONS))
+    ap.add_argument("--label", default="this build")
+    ap.add_argument("--json", help="also write the raw figures here")
+    ap.add_argument("--write", help="markdown file whose block between the markers "
+                    "<!-- families:LABEL --> ... <!-- /families:LABEL --> gets the table")
+    args = ap.parse_args()
+    first, last = (int(x) for x in args.seeds.split("-"))
+    results = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        work = pathlib.Path(tmp)
+        for family in args.families.split(","):
+            for triangulation in args.triangulations.split(","):
+                if family == "curved_fold" and triangulation == "irregular":
+                    continue
+                runs = []
+                for seed in range(first, last + 1):
+                    mesh = families.random_case(family, seed, triangulations=[triangulation])
+                    runs.append(measure(mesh, args.tool, work))
+                results[(family, triangulation)] = runs
+                print(" | ".join(rows_of({(family, triangulation): runs})[0]), flush=True)
+    text = table(rows_of(results), "%s (seeds %s, defaults)" % (args.label, args.seeds))
+    print(text)
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(
+            {"%s/%s" % k: v for k, v in results.items()}, indent=1))
+    if args.write:
+        path = pathlib.Path(args.write)
+        old = path.read_text() if path.exists() else ""
+        begin, end = "<!-- families:%s -->" % args.label, "<!-- /families:%s -->" % args.label
+        block = begin + "\n" + text + end
+        if begin in old and end in old:
+            new = old[:old.index(begin)] + block + old[old.index(end) + len(end):]
+        else:
+            new = old.rstrip("\n") + "\n\n" + block + "\n"
+        path.write_text(new)
+
+
+if __name__ == "__main__":
+    main()

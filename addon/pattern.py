@@ -97,15 +97,21 @@ def pattern_params(settings, scene):
 
 
 def source_positions(obj):
-    """(positions (n, 3) float64, name): the Developable shape key if there is one, else the base mesh."""
-    mesh = obj.data
-    keys = mesh.shape_keys
+    """(positions (n, 3) float64 in world units, name): what the viewport shows
+    with the Developable key at full strength (the other keys' mix plus the
+    key's offset from the reference), else the shown mix of the base mesh.
+    Rotation and scale are applied so that the pattern is at true size; the
+    translation is left out (it does not change the pieces)."""
+    ref, mix = mesh_io.read_visible_positions(obj, exclude=(writeback.SHAPE_KEY,))
+    keys = obj.data.shape_keys
+    name = "base mesh"
     if keys is not None and writeback.SHAPE_KEY in keys.key_blocks:
         block = keys.key_blocks[writeback.SHAPE_KEY]
         co = np.empty(len(block.data) * 3, dtype=np.float32)
         block.data.foreach_get("co", co)
-        return co.reshape(-1, 3).astype(np.float64), "shape key " + writeback.SHAPE_KEY
-    return mesh_io.read_positions(mesh), "base mesh"
+        mix = mix + (co.reshape(-1, 3).astype(np.float64) - ref)
+        name = "shape key " + writeback.SHAPE_KEY
+    return mix @ mesh_io.linear_part(obj).T, name
 
 
 def triangle_patches(mesh, buffers):
@@ -204,7 +210,11 @@ class MESH_OT_unfold_pattern(Operator):
             if len(buffers.triangles) == 0:
                 self.report({'ERROR'}, "The mesh has no faces")
                 return {'CANCELLED'}
-            positions, source = source_positions(obj)
+            try:
+                positions, source = source_positions(obj)
+            except mesh_io.MeshInputError as exc:
+                self.report({'ERROR'}, str(exc))
+                return {'CANCELLED'}
             try:
                 # A polygon's triangles stay in one piece: one UV island per piece.
                 pattern = native.unfold(positions, buffers.triangles, triangle_patches(mesh, buffers),

@@ -50,6 +50,15 @@ def test_unfold_pattern_headless(blender_env, tmp_path):
     assert r["base_unchanged"]
 
 
+def test_unfold_pattern_takes_the_shown_shape_at_world_size(blender_env, tmp_path):
+    r = pattern_scenario(blender_env, "true_size", tmp_path)
+    # 10 x 5 cm at scale 2, x stretched by 1.5 by the visible key: 0.3 x 0.1 m.
+    assert r["source"] == "base mesh" and r["area"] == pytest.approx(0.03, rel=1e-6)
+    assert r["key_source"] == "shape key Developable"
+    assert r["key_area"] == pytest.approx(0.03, rel=1e-6)
+    assert r["key_z"] == pytest.approx([2.0, 2.0], rel=1e-6)  # lifted 1 m, at scale 2
+
+
 @pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is missing")
 def test_undo_removes_what_unfold_pattern_wrote(blender_env, tmp_path):
     # DEVELOPABLE_PATTERN_SCREENSHOT=PATH also takes docs/pattern-uv-editor.png's picture.

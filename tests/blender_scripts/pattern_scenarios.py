@@ -211,6 +211,43 @@ def screenshot(ob, path, then):
     bpy.app.timers.register(shoot, first_interval=1.0)
 
 
+def s_true_size():
+    """What is unfolded is what the viewport shows, at world size: a 10 x 5 cm
+    plane (metres) at object scale 2 with a visible "Stretch" key (x doubled,
+    at 0.5), then with a Developable key that lifts it by 1 m."""
+    for o in list(bpy.data.objects):
+        bpy.data.objects.remove(o, do_unlink=True)
+    n, m = 11, 6
+    x, y = np.meshgrid(np.linspace(0, 0.1, n), np.linspace(0, 0.05, m), indexing="ij")
+    v = np.stack([x.ravel(), y.ravel(), np.zeros(n * m)], axis=1)
+    idx = np.arange(n * m).reshape(n, m)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+    f = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    ob = dk_blender.object_from_arrays("plane", v, f)
+    ob.scale = (2.0, 2.0, 2.0)
+    bpy.context.view_layer.update()
+    ob.shape_key_add(name="Basis", from_mix=False)
+    stretch = ob.shape_key_add(name="Stretch", from_mix=False)
+    co = v.copy()
+    co[:, 0] *= 2.0
+    stretch.data.foreach_set("co", co.astype(np.float32).ravel())
+    stretch.value = 0.5
+
+    def area(p):
+        t = p[f]
+        return float(0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1).sum())
+
+    shown, source = pattern_module.source_positions(ob)
+    key = ob.shape_key_add(name="Developable", from_mix=False)
+    lifted = v.copy()
+    lifted[:, 2] += 1.0
+    key.data.foreach_set("co", lifted.astype(np.float32).ravel())
+    key.value = 0.0  # the pattern is of the key at full strength, whatever its slider
+    keyed, key_source = pattern_module.source_positions(ob)
+    emit({"area": area(shown), "source": source, "key_area": area(keyed), "key_source": key_source,
+          "key_z": [float(keyed[:, 2].min()), float(keyed[:, 2].max())]})
+
+
 SCENARIOS = {name[2:]: fn for name, fn in globals().items() if name.startswith("s_")}
 
 if __name__ == "__main__":

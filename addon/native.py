@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 3  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 4  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -80,6 +80,9 @@ class dev_params(ctypes.Structure):
         ("grid_resolution", ctypes.c_int32),
         ("solver", ctypes.c_int32),
         ("target_smoothing", ctypes.c_int32),
+        # ABI 4
+        ("max_move", ctypes.c_double),
+        ("polish", ctypes.c_int32),
     ]
 
 
@@ -119,6 +122,9 @@ class dev_stats(ctypes.Structure):
         ("flat_share_before", ctypes.c_double),
         ("flat_share_after", ctypes.c_double),
         ("result_message", ctypes.c_char * 256),
+        # ABI 4
+        ("polish_iterations", ctypes.c_int32),
+        ("time_polish_ms", ctypes.c_double),
     ]
 
 

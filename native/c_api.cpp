@@ -148,6 +148,8 @@ developable::PipelineOptions to_options(const dev_params& p) {
   o.seams = p.seams == DEV_SEAMS_PINNED ? developable::Seams::pinned : developable::Seams::free;
   o.curve_options.grid_resolution = p.grid_resolution;
   o.target_smoothing = p.target_smoothing;
+  o.max_move = p.max_move;
+  o.polish = p.polish;
   // Not a parameter: the result does not depend on it (tests and benchmarks
   // set it to check that, and servers to share the machine).
   if (const char* threads = std::getenv("DEVELOPABLE_THREADS"); threads != nullptr && *threads != '\0') {
@@ -211,6 +213,8 @@ void dev_default_params(dev_params* params) {
   params->solver = o.solver == developable::Formulation::coupled ? DEV_SOLVER_COUPLED
                                                                  : DEV_SOLVER_DECOUPLED;
   params->target_smoothing = o.target_smoothing;
+  params->max_move = o.max_move;
+  params->polish = o.polish;
 }
 
 int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles,
@@ -272,6 +276,8 @@ int32_t dev_result_stats(const dev_result* result, dev_stats* stats) {
   stats->faces_turned_over = static_cast<int64_t>(s.faces_turned_over);
   stats->flat_share_before = s.flat_share_before;
   stats->flat_share_after = s.flat_share_after;
+  stats->polish_iterations = s.polish_iterations;
+  stats->time_polish_ms = s.time_polish_ms;
   const size_t length = std::min(s.result_message.size(), sizeof stats->result_message - 1);
   std::memcpy(stats->result_message, s.result_message.data(), length);
   stats->result_message[length] = '\0';

@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 3
+#define DEV_ABI_VERSION 4
 
 /* Status codes (values are stable). */
 enum {
@@ -115,7 +115,14 @@ typedef struct dev_params {
                                  the same patch, 0-100; -1 = automatic (default): in the refit mode 1
                                  on a segmented mesh; on one patch 0, and if the run stalls with
                                  more than 10 % of its curvature left it goes on from the best
-                                 iterate with the targets averaged along the rulings instead. */
+                                 iterate with the targets averaged along the rulings instead
+                                 (only when the polish is off). */
+  /* ABI 4: */
+  double max_move;            /* largest vertex move as a fraction of the bounding box's diagonal;
+                                 the smaller of this and `tolerance` applies; <= 0 means no limit.
+                                 Default 0.01 (1 % of the size). */
+  int32_t polish;             /* the angle-defect polish after the deformation: -1 automatic
+                                 (default: on in DEV_MODE_REFIT, off in DEV_MODE_PAPER), 0 off, 1 on. */
 } dev_params;
 
 typedef struct dev_stats {
@@ -145,6 +152,9 @@ typedef struct dev_stats {
   double flat_share_before;     /* share of interior vertices with |defect| < 1e-3 rad, 0..1 */
   double flat_share_after;
   char result_message[256];     /* plain-words sentence for the user, NUL-terminated; empty if none */
+  /* ABI 4: */
+  int32_t polish_iterations;    /* steps of the angle-defect polish kept (0: none, or it was off) */
+  double time_polish_ms;        /* the polish's share of t_T */
 } dev_stats;
 
 /* Opaque result of one run; free with dev_result_free. */

@@ -32,6 +32,13 @@ constexpr double kCoupledBytesPerFace = 3000.0 * 1.6;
 constexpr double kBytesPerVertex = 24.0 * 10;   // positions: input, result, iterates, normals
 constexpr double kBytesPerTriangle = 12.0 * 4 + 36.0 * 2;  // copies, directed edges, sort
 constexpr double kBytesPerGridCell = 2 * 100.0;
+// The angle-defect polish (defect_polish.h): J and J J^T (about 20 entries a
+// row each, one row per vertex, ~ half a vertex per face) and its copies of
+// the positions; and the factor of a system of up to 20k rows (one per
+// vertex), about 200 entries a row.
+constexpr double kPolishBytesPerFace = 200.0;
+constexpr double kPolishFactorBytesPerRow = 200.0 * 12.0;
+constexpr double kPolishFactorRows = 20000.0;
 constexpr double kFixedBytes = 32.0 * kMiB;     // thread stacks, tables, allocator slack
 
 }  // namespace
@@ -45,7 +52,10 @@ double estimated_peak_bytes(int64_t vertices, int64_t triangles, const PipelineO
   const double grid = static_cast<double>(options.curve_options.grid_resolution > 0
                                               ? options.curve_options.grid_resolution
                                               : automatic_grid_resolution(m));
-  return kFixedBytes + n * kBytesPerVertex + m * (kBytesPerTriangle + per_face) +
+  const bool polish = options.polish == 1 || (options.polish == -1 && options.mode == Mode::refit);
+  if (polish) per_face += kPolishBytesPerFace;
+  const double factor = polish ? std::min(n, kPolishFactorRows) * kPolishFactorBytesPerRow : 0.0;
+  return kFixedBytes + factor + n * kBytesPerVertex + m * (kBytesPerTriangle + per_face) +
          grid * grid * kBytesPerGridCell;
 }
 

@@ -45,6 +45,20 @@ constexpr double kSmoothedPhaseShare = 0.1;
 // second phase may move the mesh from the input.
 constexpr double kSecondPhaseMove = 2.0;
 
+// The polish works on the vertices whose |defect| is above PolishOptions'
+// default (1e-4 rad, a tenth of the flat threshold), and on meshes of up to
+// kPolishDirectVertices scored vertices above this share of the input's mean
+// |defect| if that is lower: a run can then remove 99.5 % of the mean even
+// when the input is nearly flat. Larger meshes keep the absolute threshold,
+// as the system then grows with the mesh (100k faces: polish 0.6 s instead
+// of 5.8 s, -99.3 % instead of -99.8 % on the benchmark's noisy cylinder).
+constexpr double kPolishActiveShare = 0.005;
+constexpr std::ptrdiff_t kPolishDirectVertices = 20000;
+
+// How much a closed mesh's mean |defect| may grow (fraction) in exchange for
+// flat patches (see run_pipeline).
+constexpr double kClosedMeshGrowth = 0.05;
+
 double rms_move(const Positions& a, const Positions& b) {
   return std::sqrt((a - b).rowwise().squaredNorm().mean());
 }
@@ -98,6 +112,9 @@ class IterateScore {
   IterateScore(std::vector<bool> scored, bool median) : scored_(std::move(scored)), median_(median) {
     for (bool s : scored_) count_ += s ? 1 : 0;
   }
+
+  // The vertices the score reads.
+  const std::vector<bool>& scored() const { return scored_; }
 
   double operator()(const Eigen::VectorXd& defects) const {
     if (count_ == 0) return 0.0;
@@ -279,6 +296,7 @@ void check_options(const PipelineOptions& o) {
   };
   require(std::isfinite(o.omega) && o.omega > 0.0, "omega must be a positive number");
   require(std::isfinite(o.tolerance), "tolerance must be a finite number (<= 0 for no limit)");
+  require(std::isfinite(o.max_move), "max_move must be a finite number (<= 0 for no limit)");
   require(o.max_iterations >= 1 && o.max_iterations <= 100000,
           "max_iterations must be between 1 and 100000");
   require(o.refit_interval >= 1, "refit_interval must be at least 1");
@@ -301,6 +319,7 @@ void check_options(const PipelineOptions& o) {
   require(o.ruling_smoothing >= -1 && o.ruling_smoothing <= 100,
           "ruling_smoothing must be -1 (automatic) or between 0 and 100");
   require(o.threads >= 0 && o.threads <= 256, "threads must be 0 (automatic) or between 1 and 256");
+  require(o.polish >= -1 && o.polish <= 1, "polish must be -1 (automatic), 0 or 1");
 }
 
 VertexFaces check_input(const Positions& positions, const Triangles& triangles, const std::vector<bool>& pinned,
@@ -384,6 +403,343 @@ Normals patch_target_normals(const Normals& normals, const PatchFaces& patches,
   return targets;
 }
 
+namespace {
+
+// -- The steps of run_pipeline, in the order it takes them ------------------
+
+// The pins of a run: the caller's mask, the boundary if asked.
+std::vector<bool> pins_of(const Positions& positions, const Triangles& triangles,
+                          const std::vector<bool>& pinned, const PipelineOptions& options) {
+  std::vector<bool> pins = pinned.empty() ? std::vector<bool>(static_cast<size_t>(positions.rows()), false) : pinned;
+  if (options.pin_boundary) {
+    const std::vector<bool> boundary = boundary_vertices(positions, triangles);
+    for (size_t v = 0; v < pins.size(); ++v) pins[v] = pins[v] || boundary[v];
+  }
+  return pins;
+}
+
+// Step "patches": one patch when one set of ideal curves carries the whole
+// Gauss image, else the segmentation's (automatic segmentation judges by
+// the RMS angle between the normals and their one-patch targets;
+// docs/segmentation.md has the measurements). With the patches come their
+// first curves and targets.
+struct Patches {
+  std::vector<int> ids;  // per face
+  int count = 1;
+  PatchFaces faces;
+  std::vector<PatchCurve> curves;
+  Normals targets;  // of the input's normals
+};
+
+Patches find_patches(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                     const Eigen::VectorXd& areas, const VertexFaces& connectivity,
+                     const PipelineOptions& options, const Progress& progress) {
+  Patches patches;
+  patches.ids.assign(static_cast<size_t>(triangles.rows()), 0);
+  bool segment = options.segmentation == 1;
+  if (!segment) {
+    patches.faces = faces_of_patches(patches.ids, 1);
+    patches.curves = fit_patch_curves(normals, areas, patches.faces, options.curve_options);
+    patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, 1), nullptr,
+                                           options.threads);
+    segment = options.segmentation == -1 &&
+              curve_fit_error(normals, patches.targets, areas) > kAutoSegmentationError;
+  }
+  if (segment) {
+    patches.ids = segment_mesh(positions, triangles, normals, areas, connectivity, options.segmentation_options,
+                               progress.sub(0.02, 0.05));
+    for (int label : patches.ids) patches.count = std::max(patches.count, label + 1);
+    progress.report(0.05, "ideal curve");
+    patches.faces = faces_of_patches(patches.ids, patches.count);
+    patches.curves = fit_patch_curves(normals, areas, patches.faces, options.curve_options);
+    patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, patches.count),
+                                           nullptr, options.threads);
+  }
+  return patches;
+}
+
+// Step "targets": the target normal of every face at every iteration. In
+// the refit mode the curves are refit from the deformed mesh every
+// refit_interval iterations (or when asked) and the normals projected onto
+// them in between, each face starting its search at its last answer; the
+// targets may then be averaged along the rulings or over the ring.
+class TargetField {
+ public:
+  TargetField(Patches patches, const Positions& positions, const Triangles& triangles, const Eigen::VectorXd& areas,
+              const VertexFaces& connectivity, const PipelineOptions& options, bool piecewise)
+      : patches_(std::move(patches)),
+        triangles_(triangles),
+        connectivity_(connectivity),
+        options_(options),
+        searches_(patch_curve_searches(patches_.curves, patches_.count)),
+        smoothing_rounds_(options.target_smoothing >= 0 ? options.target_smoothing : (piecewise ? 1 : 0)),
+        ruling_rounds_(std::max(options.ruling_smoothing, 0)) {
+    // The first projection, again with hints so that later ones start there.
+    targets_ = patch_target_normals(face_normals(positions, triangles), patches_.faces, searches_, &hints_,
+                                    options.threads);
+    if (ruling_rounds_ > 0) {
+      ruling_smoother_.emplace(triangles, patches_.ids, connectivity);
+      targets_ = ruling_smoother_->smooth_along_rulings(targets_, positions, triangles, areas, ruling_rounds_);
+    }
+    if (smoothing_rounds_ > 0) {
+      smoother_.emplace(triangles, patches_.ids, connectivity);
+      targets_ = smoother_->smooth(targets_, areas, smoothing_rounds_);
+    }
+  }
+
+  const Normals& targets() const { return targets_; }
+  const std::vector<PatchCurve>& curves() const { return patches_.curves; }
+  const std::vector<int>& patch_ids() const { return patches_.ids; }
+  int patch_count() const { return patches_.count; }
+
+  // The targets for the mesh `current` with face normals `normals` at
+  // `iteration` (>= 2; the first step takes the input's).
+  void update(const Positions& current, const Normals& normals, int iteration) {
+    const bool refit = refit_next_ || (iteration - 1) % options_.refit_interval == 0;
+    refit_next_ = false;
+    const Eigen::VectorXd areas = refit || smoother_ || ruling_smoother_ ? face_areas(current, triangles_)
+                                                                         : Eigen::VectorXd();
+    if (refit) {
+      patches_.curves = fit_patch_curves(normals, areas, patches_.faces, options_.curve_options);
+      searches_ = patch_curve_searches(patches_.curves, patches_.count);
+    }
+    targets_ = patch_target_normals(normals, patches_.faces, searches_, &hints_, options_.threads);
+    if (ruling_smoother_)
+      targets_ = ruling_smoother_->smooth_along_rulings(targets_, current, triangles_, areas, ruling_rounds_);
+    if (smoother_) targets_ = smoother_->smooth(targets_, areas, smoothing_rounds_);
+  }
+
+  // The second phase of a stalled one-patch run: from the next update on,
+  // curves refit at once and targets averaged along the rulings (or, when
+  // the caller chose ruling_smoothing, one isotropic round).
+  void start_second_phase() {
+    refit_next_ = true;
+    if (options_.ruling_smoothing < 0) {
+      // Along the rulings, not across them: the isotropic average of
+      // target_smoothing flattened wavy shapes (issue 11; docs/families.md).
+      ruling_rounds_ = kRulingRounds;
+      ruling_smoother_.emplace(triangles_, patches_.ids, connectivity_);
+    } else {
+      smoothing_rounds_ = 1;
+      smoother_.emplace(triangles_, patches_.ids, connectivity_);
+    }
+  }
+
+ private:
+  Patches patches_;
+  const Triangles& triangles_;
+  const VertexFaces& connectivity_;
+  const PipelineOptions& options_;
+  std::vector<CurveSearch> searches_;
+  // Each face's last answer on its patch's curves: where its next search
+  // starts. Kept across refits too, as the refit curves are sampled alike.
+  std::vector<std::vector<int>> hints_;
+  Normals targets_;
+  int smoothing_rounds_;
+  int ruling_rounds_;
+  std::optional<TargetSmoother> smoother_;
+  std::optional<TargetSmoother> ruling_smoother_;  // TargetSmoother::smooth_along_rulings
+  bool refit_next_ = false;
+};
+
+// Step "step": one deformation step that cannot fold. A step that would
+// turn faces over (against the input's normals) is solved again with those
+// faces and their neighbours damped; what still turns over then keeps its
+// corners at their previous place, ring by ring. Thin triangles pull less
+// (sliver_trust). Damping only in the decoupled formulation, whose matrix
+// does not depend on omega.
+class FoldSafeStep {
+ public:
+  FoldSafeStep(NormalGuidedDeformation& deformation, const Positions& input, const Normals& input_normals,
+               const Triangles& triangles, const VertexFaces& connectivity, bool can_damp, double limit, Mode mode)
+      : deformation_(deformation),
+        input_(input),
+        input_normals_(input_normals),
+        triangles_(triangles),
+        can_damp_(can_damp),
+        limit_(limit),
+        mode_(mode),
+        trust_(can_damp ? sliver_trust(input, triangles) : Eigen::VectorXd::Ones(triangles.rows())),
+        damping_(triangles, connectivity) {
+    if (can_damp_ && trust_.minCoeff() < 1.0) deformation_.set_normal_weights(trust_);
+  }
+
+  // Moves `current` (with face normals `normals`) one step on; both are
+  // updated. Returns the extra solves and reverts it took.
+  int advance(Positions& current, Normals& normals) {
+    int retries = 0;
+    Positions proposal = propose(current, normals);
+    Normals proposal_normals = face_normals(proposal, triangles_);
+    std::vector<Eigen::Index> turned = turned_over_list(proposal_normals, input_normals_);
+    for (int retry = 0; retry < kFoldRetries && !turned.empty() && can_damp_; ++retry) {
+      damping_.damp_around(turned);
+      deformation_.set_normal_weights(trust_.cwiseProduct(damping_.factors()));
+      proposal = propose(current, normals);
+      proposal_normals = face_normals(proposal, triangles_);
+      turned = turned_over_list(proposal_normals, input_normals_);
+      ++retries;
+    }
+    for (int round = 0; !turned.empty(); ++round) {
+      if (round == kFoldRevertRounds) {
+        proposal = current;
+        proposal_normals = normals;
+        break;
+      }
+      for (Eigen::Index f : turned)
+        for (int c = 0; c < 3; ++c) proposal.row(triangles_(f, c)) = current.row(triangles_(f, c));
+      proposal_normals = face_normals(proposal, triangles_);
+      turned = turned_over_list(proposal_normals, input_normals_);
+      ++retries;
+    }
+    current = std::move(proposal);
+    normals = std::move(proposal_normals);
+    if (can_damp_ && damping_.any()) {
+      damping_.recover();
+      deformation_.set_normal_weights(trust_.cwiseProduct(damping_.factors()));
+    }
+    return retries;
+  }
+
+ private:
+  Positions propose(const Positions& current, const Normals& normals) const {
+    Positions next = mode_ == Mode::refit ? deformation_.step(current, normals) : deformation_.step(current);
+    if (limit_ > 0.0) clamp_to_tolerance(next, input_, limit_);
+    return next;
+  }
+
+  NormalGuidedDeformation& deformation_;
+  const Positions& input_;
+  const Normals& input_normals_;
+  const Triangles& triangles_;
+  bool can_damp_;
+  double limit_;
+  Mode mode_;
+  Eigen::VectorXd trust_;
+  FoldDamping damping_;
+};
+
+// Step "score": what an iterate shows the user, and whether it may be
+// returned. Eligible only if no worse than the input on any figure the user
+// sees: no face turned over, the mean |defect| not above the input's (on a
+// closed mesh up to kClosedMeshGrowth above: Gauss-Bonnet keeps its total,
+// so flattening the patches gathers it on the seams, where signs no longer
+// cancel), the flat share not below it. IterateScore ranks the eligible.
+struct Figures {
+  Eigen::VectorXd defects;
+  DefectStats defect;
+  double flat = 0.0;
+  Eigen::Index turned = 0;
+  double score = 0.0;
+};
+
+class Judge {
+ public:
+  Judge(const Triangles& triangles, const std::vector<bool>& interior, const Normals& input_normals,
+        IterateScore score, const Figures& input, bool closed)
+      : triangles_(triangles),
+        interior_(interior),
+        input_normals_(input_normals),
+        score_(std::move(score)),
+        input_(input),
+        allowed_mean_(input.defect.mean_abs * (closed ? 1.0 + kClosedMeshGrowth : 1.0)) {}
+
+  Figures measure(const Positions& positions, const Normals& normals) const {
+    Figures f;
+    f.defects = angle_defects(positions, triangles_, interior_);
+    f.defect = defect_stats(f.defects, interior_);
+    f.flat = flat_share(f.defects, interior_);
+    f.turned = turned_over_faces(normals, input_normals_);
+    f.score = score_(f.defects);
+    return f;
+  }
+
+  // Whether `f` may be returned; the reasons of a better-scoring iterate
+  // that may not are kept for unchanged_message.
+  bool eligible(const Figures& f) {
+    const bool folded = f.turned > 0;
+    const bool defect_grew = f.defect.mean_abs > allowed_mean_;
+    const bool flat_share_fell = f.flat < input_.flat;
+    if (f.score < input_.score) {
+      if (folded) {
+        ++rejected_.folded;
+        if (rejected_.fewest_turned_over < 0 || f.turned < rejected_.fewest_turned_over)
+          rejected_.fewest_turned_over = f.turned;
+      }
+      if (defect_grew) ++rejected_.defect_grew;
+      if (flat_share_fell) ++rejected_.flat_share_fell;
+    }
+    return !folded && !defect_grew && !flat_share_fell;
+  }
+
+  const IterateScore& score() const { return score_; }
+  const Rejections& rejected() const { return rejected_; }
+
+ private:
+  const Triangles& triangles_;
+  const std::vector<bool>& interior_;
+  const Normals& input_normals_;
+  IterateScore score_;
+  Figures input_;
+  double allowed_mean_;
+  Rejections rejected_;
+};
+
+// Step "stop": the stall rule. A run stops when the best score gained less
+// than `improvement` (a fraction) over the last `window` iterations.
+class StallRule {
+ public:
+  StallRule(size_t window, double improvement) : window_(window), improvement_(improvement) {}
+
+  // Records the best score after an iteration; true when the run stalled.
+  bool stalled(double best_score) {
+    history_.push_back(best_score);
+    if (history_.size() <= window_) return false;
+    const double then = history_[history_.size() - 1 - window_];
+    return then - best_score < improvement_ * then;
+  }
+
+  void restart() { history_.clear(); }
+
+ private:
+  size_t window_;
+  double improvement_;
+  std::vector<double> history_;
+};
+
+// The result's message: why the input came back, or which figure grew.
+std::string result_message(const PipelineStats& stats, const Rejections& rejected) {
+  if (stats.result == ResultKind::unchanged) return unchanged_message(rejected);
+  char text[256];
+  if (stats.mean_defect_after > stats.mean_defect_before) {
+    std::snprintf(text, sizeof text,
+                  "Improved, but the mean |defect| grew by %.1f %%: a closed surface keeps its total "
+                  "curvature, which gathered on the seams between the flat patches.",
+                  100.0 * (stats.mean_defect_after / stats.mean_defect_before - 1.0));
+    return text;
+  }
+  if (stats.max_defect_after > stats.max_defect_before) {
+    std::snprintf(text, sizeof text, "Improved, but the largest |defect| grew from %.3g to %.3g rad.",
+                  stats.max_defect_before, stats.max_defect_after);
+    return text;
+  }
+  return "";
+}
+
+// The largest distance a vertex may move from its input position (caller's
+// units; 0: no limit): the smaller of tolerance AE and max_move times the
+// bounding box's diagonal.
+double move_limit(const Positions& positions, const PipelineOptions& options, double average_edge) {
+  double limit = options.tolerance > 0.0 ? options.tolerance * average_edge : 0.0;
+  if (options.max_move > 0.0) {
+    const double diagonal = (positions.colwise().maxCoeff() - positions.colwise().minCoeff()).norm();
+    const double size_limit = options.max_move * diagonal;
+    limit = limit > 0.0 ? std::min(limit, size_limit) : size_limit;
+  }
+  return limit;
+}
+
+}  // namespace
+
 PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,
                             const std::vector<bool>& pinned_input, const PipelineOptions& options,
                             const Progress& progress) {
@@ -391,6 +747,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   const VertexFaces connectivity = check_input(positions, triangles, pinned_input, options, progress);
   const Eigen::Index n = positions.rows();
 
+  // The input's measures (stage 2).
   PipelineResult result;
   PipelineStats& stats = result.stats;
   stats.vertices = n;
@@ -404,95 +761,39 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   stats.mean_defect_before = before.mean_abs;
   stats.max_defect_before = before.max_abs;
   stats.average_edge_length = average_edge_length(positions, triangles);
-  const double ae = stats.average_edge_length;
-
-  std::vector<bool> pinned = pinned_input.empty() ? std::vector<bool>(static_cast<size_t>(n), false)
-                                                  : pinned_input;
-  if (options.pin_boundary) {
-    const std::vector<bool> boundary = boundary_vertices(positions, triangles);
-    for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = pinned[v] || boundary[v];
-  }
-
-  // Ideal curves of the whole mesh as one patch, then patches if needed.
-  progress.report(0.02, "ideal curve");
+  stats.flat_share_before = flat_share(result.defect_before, result.interior);
+  const double limit = move_limit(positions, options, stats.average_edge_length);
+  std::vector<bool> pinned = pins_of(positions, triangles, pinned_input, options);
   const Normals normals_before = face_normals(positions, triangles);
   const Eigen::VectorXd areas_before = face_areas(positions, triangles);
-  result.patch_ids.assign(static_cast<size_t>(triangles.rows()), 0);
-  int patch_count = 1;
-  // The faces of each patch, and the search structure of each patch's
-  // current curves (rebuilt with the curves; see run_pipeline's loop).
-  PatchFaces patches;
-  std::vector<CurveSearch> searches;
-  // Each face's last answer on its patch's curves: where its next search
-  // starts. Kept across refits too, as the refit curves are sampled alike.
-  std::vector<std::vector<int>> hints;
-  // Automatic segmentation: only when one set of ideal curves cannot carry
-  // the whole Gauss image, judged by the RMS angle between the normals and
-  // their single-patch targets (docs/segmentation.md has the measurements).
-  bool segment = options.segmentation == 1;
-  if (!segment) {
-    patches = faces_of_patches(result.patch_ids, 1);
-    result.curves = fit_patch_curves(normals_before, areas_before, patches, options.curve_options);
-    searches = patch_curve_searches(result.curves, 1);
-    result.target_normals = patch_target_normals(normals_before, patches, searches, &hints, options.threads);
-    segment = options.segmentation == -1 &&
-              curve_fit_error(normals_before, result.target_normals, areas_before) >
-                  kAutoSegmentationError;
-  }
-  if (segment) {
-    result.patch_ids =
-        segment_mesh(positions, triangles, normals_before, areas_before, connectivity,
-                     options.segmentation_options, progress.sub(0.02, 0.05));
-    for (int label : result.patch_ids) patch_count = std::max(patch_count, label + 1);
-    progress.report(0.05, "ideal curve");
-    patches = faces_of_patches(result.patch_ids, patch_count);
-    result.curves = fit_patch_curves(normals_before, areas_before, patches, options.curve_options);
-    searches = patch_curve_searches(result.curves, patch_count);
-    result.target_normals = patch_target_normals(normals_before, patches, searches, &hints, options.threads);
-  }
-  stats.patches = patch_count;
+
+  // Patches and their first curves (stages 3-6).
+  progress.report(0.02, "ideal curve");
+  Patches patches = find_patches(positions, triangles, normals_before, areas_before, connectivity, options, progress);
+  stats.patches = patches.count;
+  result.patch_ids = patches.ids;
   // The refit mode treats a segmented mesh as pieces meeting at seams: it is
   // scored inside its patches, where the curvature should leave (see
   // IterateScore), and its targets are smoothed. The paper mode stays the
   // paper's: E^mean and raw targets whatever the patches.
-  const bool piecewise = patch_count > 1 && options.mode == Mode::refit;
-  std::vector<bool> scored = result.interior;
-  const std::vector<bool> border = patch_border_vertices(triangles, result.patch_ids, n);
+  const bool piecewise = patches.count > 1 && options.mode == Mode::refit;
+  const std::vector<bool> border = patch_border_vertices(triangles, patches.ids, n);
   if (options.seams == Seams::pinned)
     for (size_t v = 0; v < pinned.size(); ++v) pinned[v] = pinned[v] || border[v];
+  std::vector<bool> scored = result.interior;
   if (piecewise) {
     std::vector<bool> inside = scored;
-    bool any_inside = false;
-    for (size_t v = 0; v < inside.size(); ++v) {
-      inside[v] = inside[v] && !border[v];
-      any_inside = any_inside || inside[v];
-    }
-    if (any_inside) scored = std::move(inside);
+    for (size_t v = 0; v < inside.size(); ++v) inside[v] = inside[v] && !border[v];
+    if (std::find(inside.begin(), inside.end(), true) != inside.end()) scored = std::move(inside);
   }
-  const IterateScore score_of(std::move(scored), piecewise);
-  int smoothing_rounds =
-      options.target_smoothing >= 0 ? options.target_smoothing : (piecewise ? 1 : 0);
-  bool smoothed_phase_pending =
-      options.target_smoothing < 0 && !piecewise && options.mode == Mode::refit;
-  std::optional<TargetSmoother> smoother;
-  // Targets averaged along the rulings (TargetSmoother::smooth_along_rulings).
-  int ruling_rounds = std::max(options.ruling_smoothing, 0);
-  std::optional<TargetSmoother> ruling_smoother;
-  if (ruling_rounds > 0) {
-    ruling_smoother.emplace(triangles, result.patch_ids, connectivity);
-    result.target_normals = ruling_smoother->smooth_along_rulings(result.target_normals, positions, triangles,
-                                                                  areas_before, ruling_rounds);
-  }
-  if (smoothing_rounds > 0) {
-    smoother.emplace(triangles, result.patch_ids, connectivity);
-    result.target_normals = smoother->smooth(result.target_normals, areas_before, smoothing_rounds);
-  }
+  TargetField targets(std::move(patches), positions, triangles, areas_before, connectivity, options, piecewise);
+  result.curves = targets.curves();
+  result.target_normals = targets.targets();
 
   result.positions = positions;
   result.defect_after = result.defect_before;
   stats.mean_defect_after = before.mean_abs;
   stats.max_defect_after = before.max_abs;
-  stats.flat_share_before = flat_share(result.defect_before, result.interior);
   stats.flat_share_after = stats.flat_share_before;
   stats.result = ResultKind::unchanged;
   if (before.mean_abs <= options.developable_threshold) {
@@ -503,219 +804,144 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     return result;
   }
 
-  // The system (t_D).
+  // The system (stage 7, t_D).
   progress.report(0.08, "factorization");
   const auto decompose_start = Clock::now();
   const Mode mode = options.mode;
   const Formulation formulation = mode == Mode::paper ? Formulation::coupled : options.solver;
   Eigen::VectorXd row_weights = options.use_mls_weights
-                                    ? mls_row_weights(positions, triangles, pinned, ae)
+                                    ? mls_row_weights(positions, triangles, pinned, stats.average_edge_length)
                                     : Eigen::VectorXd::Ones(triangles.rows());
   NormalGuidedDeformation deformation(triangles, pinned, std::move(row_weights), options.omega,
-                                      mode == Mode::paper ? 1.0 : kRefitCentroidWeight,
-                                      formulation, result.target_normals);
+                                      mode == Mode::paper ? 1.0 : kRefitCentroidWeight, formulation,
+                                      targets.targets());
   stats.time_decompose_ms = elapsed_ms(decompose_start);
-  // Thin triangles pull less (sliver_trust); faces a step would turn over
-  // are damped (FoldDamping). Both only in the decoupled formulation, whose
-  // matrix does not depend on omega.
-  const bool can_damp = formulation == Formulation::decoupled;
-  const Eigen::VectorXd trust =
-      can_damp ? sliver_trust(positions, triangles) : Eigen::VectorXd::Ones(triangles.rows());
-  FoldDamping damping(triangles, connectivity);
-  if (can_damp && trust.minCoeff() < 1.0) deformation.set_normal_weights(trust);
+  FoldSafeStep step(deformation, positions, normals_before, triangles, connectivity,
+                    formulation == Formulation::decoupled, limit, mode);
 
-  // Iterations (t_I).
-  const auto iterate_start = Clock::now();
-  const double limit = options.tolerance > 0.0 ? options.tolerance * ae : 0.0;
-  Positions current = positions;
-  double previous_mean = before.mean_abs;
-  const double input_score = score_of(result.defect_before);
-  double best_score = input_score;
-  bool improved = false;
-  Rejections rejected;
-  // The curves and targets of the step that made the best iterate (the
-  // input's fit while nothing beat the input): what the result reports.
-  std::vector<PatchCurve> best_curves = result.curves;
-  Normals best_targets = result.target_normals;
-  std::vector<double> best_history;
-  stats.stop_reason = StopReason::iteration_limit;
-  // Face normals of `current`, shared by the fold check, the refit, the
-  // projection and the step (the input's at the first iteration).
-  Normals normals = normals_before;
-  bool refit_next = false;
+  const std::vector<bool> on_boundary = boundary_vertices(positions, triangles);
+  const bool closed = std::none_of(on_boundary.begin(), on_boundary.end(), [](bool b) { return b; });
+  Figures input;
+  input.defects = result.defect_before;
+  input.defect = before;
+  input.flat = stats.flat_share_before;
+  const IterateScore score_of(scored, piecewise);
+  input.score = score_of(result.defect_before);
+  Judge judge(triangles, result.interior, normals_before, score_of, input, closed);
+
+  // The polish (stage 8) finishes what the deformation leaves, so a
+  // one-patch run that will be polished has no smoothed second phase: it
+  // moved the shape for what the polish does better (docs/families.md).
+  const bool polish = options.polish == 1 || (options.polish == -1 && mode == Mode::refit);
+  StallRule stall = piecewise ? StallRule(kSegmentedStallIterations, kSegmentedStallImprovement)
+                              : StallRule(kStallIterations, kStallImprovement);
+  bool second_phase_pending = options.target_smoothing < 0 && !piecewise && mode == Mode::refit && !polish;
   bool second_phase = false;
-  double first_phase_flat = 0.0, first_phase_move = 0.0;  // the second phase refits on the iterate it restarts from
+  double first_phase_flat = 0.0, first_phase_move = 0.0;
+
+  // The iterations (t_I).
+  const auto iterate_start = Clock::now();
+  Positions current = positions;
+  Normals normals = normals_before;  // of `current`: shared by the fold check, the refit and the step
+  double best_score = input.score, previous_mean = before.mean_abs;
+  bool improved = false;
+  stats.stop_reason = StopReason::iteration_limit;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
-    progress.report(0.1 + 0.9 * (iteration - 1) / options.max_iterations, "deformation");
+    progress.report(0.1 + 0.85 * (iteration - 1) / options.max_iterations, "deformation");
     if (mode == Mode::refit && iteration > 1) {
-      // Refitting the curves is the costly part; between refits the normals
-      // are only projected again onto the curves they have.
-      const bool refit = refit_next || (iteration - 1) % options.refit_interval == 0;
-      refit_next = false;
-      const Eigen::VectorXd areas =
-          refit || smoothing_rounds > 0 || ruling_rounds > 0 ? face_areas(current, triangles) : Eigen::VectorXd();
-      if (refit) {
-        result.curves = fit_patch_curves(normals, areas, patches, options.curve_options);
-        searches = patch_curve_searches(result.curves, patch_count);
-      }
-      result.target_normals = patch_target_normals(normals, patches, searches, &hints, options.threads);
-      if (ruling_smoother)
-        result.target_normals = ruling_smoother->smooth_along_rulings(result.target_normals, current, triangles,
-                                                                      areas, ruling_rounds);
-      if (smoother) result.target_normals = smoother->smooth(result.target_normals, areas, smoothing_rounds);
+      targets.update(current, normals, iteration);
       const auto refactor_start = Clock::now();
-      deformation.set_targets(result.target_normals);
+      deformation.set_targets(targets.targets());
       if (formulation == Formulation::coupled) stats.time_decompose_ms += elapsed_ms(refactor_start);
     }
-    // The step, guarded against folds: a step that would turn faces over
-    // (against the input's normals) is retried with those faces and their
-    // neighbours damped, then shortened toward `current`, which has none.
-    auto propose = [&]() {
-      Positions next = mode == Mode::refit ? deformation.step(current, normals) : deformation.step(current);
-      if (limit > 0.0) clamp_to_tolerance(next, positions, limit);
-      return next;
-    };
-    Positions proposal = propose();
-    Normals proposal_normals = face_normals(proposal, triangles);
-    std::vector<Eigen::Index> turned_now = turned_over_list(proposal_normals, normals_before);
-    for (int retry = 0; retry < kFoldRetries && !turned_now.empty() && can_damp; ++retry) {
-      damping.damp_around(turned_now);
-      deformation.set_normal_weights(trust.cwiseProduct(damping.factors()));
-      proposal = propose();
-      proposal_normals = face_normals(proposal, triangles);
-      turned_now = turned_over_list(proposal_normals, normals_before);
-      ++stats.fold_retries;
-    }
-    // What still turns over goes back: the corners of those faces keep
-    // their place of `current`, ring by ring, until nothing turns over.
-    for (int round = 0; !turned_now.empty(); ++round) {
-      if (round == kFoldRevertRounds) {
-        proposal = current;
-        proposal_normals = normals;
-        break;
-      }
-      for (Eigen::Index f : turned_now)
-        for (int c = 0; c < 3; ++c) proposal.row(triangles(f, c)) = current.row(triangles(f, c));
-      proposal_normals = face_normals(proposal, triangles);
-      turned_now = turned_over_list(proposal_normals, normals_before);
-      ++stats.fold_retries;
-    }
-    current = std::move(proposal);
-    normals = std::move(proposal_normals);
-    if (can_damp && damping.any()) {
-      damping.recover();
-      deformation.set_normal_weights(trust.cwiseProduct(damping.factors()));
-    }
+    stats.fold_retries += step.advance(current, normals);
     stats.iterations = iteration;
 
-    const Eigen::VectorXd defects = angle_defects(current, triangles, result.interior);
-    const DefectStats now = defect_stats(defects, result.interior);
-    const double score = score_of(defects);
-    // An iterate may be returned only if it is no worse than the input on
-    // any figure the user sees: no face turned over, mean |defect| and the
-    // flat share no worse. The score ranks the eligible ones.
-    const Eigen::Index turned = turned_over_faces(normals, normals_before);
-    const double flat = flat_share(defects, result.interior);
-    const bool folded = turned > 0;
-    const bool defect_grew = now.mean_abs > before.mean_abs;
-    const bool flat_share_fell = flat < stats.flat_share_before;
-    if (score < input_score) {
-      if (folded) {
-        ++rejected.folded;
-        if (rejected.fewest_turned_over < 0 || turned < rejected.fewest_turned_over)
-          rejected.fewest_turned_over = turned;
-      }
-      if (defect_grew) ++rejected.defect_grew;
-      if (flat_share_fell) ++rejected.flat_share_fell;
-    }
+    const Figures now = judge.measure(current, normals);
     // The second phase may not trade the shape for the score: its iterates
     // must keep the first phase's best flat share and move the mesh (RMS)
     // at most kSecondPhaseMove times as far from the input.
     const bool second_phase_worse =
-        second_phase && (flat < first_phase_flat ||
-                         rms_move(current, positions) > kSecondPhaseMove * first_phase_move);
-    if (!folded && !defect_grew && !flat_share_fell && !second_phase_worse && score < best_score) {
+        second_phase &&
+        (now.flat < first_phase_flat || rms_move(current, positions) > kSecondPhaseMove * first_phase_move);
+    if (judge.eligible(now) && !second_phase_worse && now.score < best_score) {
       improved = true;
-      best_score = score;
+      best_score = now.score;
       result.positions = current;
-      result.defect_after = defects;
-      stats.mean_defect_after = now.mean_abs;
-      stats.max_defect_after = now.max_abs;
-      stats.flat_share_after = flat;
-      best_curves = result.curves;
-      best_targets = result.target_normals;
+      result.defect_after = now.defects;
+      stats.mean_defect_after = now.defect.mean_abs;
+      stats.max_defect_after = now.defect.max_abs;
+      stats.flat_share_after = now.flat;
+      result.curves = targets.curves();
+      result.target_normals = targets.targets();
     }
     // The paper's criterion, on its own measure. Not on a segmented mesh:
     // there the mean wanders while curvature moves along the seams, and
     // passes through a near-zero change by chance (at 106 of ~300 useful
-    // iterations on human_woman); the stall rule below ends those runs.
-    const double change = std::abs(now.mean_abs - previous_mean) / std::max(previous_mean, 1e-300);
-    previous_mean = now.mean_abs;
+    // iterations on human_woman); the stall rule ends those runs.
+    const double change = std::abs(now.defect.mean_abs - previous_mean) / std::max(previous_mean, 1e-300);
+    previous_mean = now.defect.mean_abs;
     if ((!piecewise && change < options.stop_relative_change) ||
-        now.mean_abs <= options.developable_threshold) {
+        now.defect.mean_abs <= options.developable_threshold) {
       stats.stop_reason = StopReason::converged;
       break;
     }
     // Noise keeps the paper's criterion from firing long after the result
-    // stopped getting better, while the free boundary slowly drifts: stop
-    // when the best score stopped gaining (see kStallImprovement).
-    best_history.push_back(best_score);
-    const size_t window = piecewise ? kSegmentedStallIterations : kStallIterations;
-    const double improvement = piecewise ? kSegmentedStallImprovement : kStallImprovement;
-    if (best_history.size() > window &&
-        best_history[best_history.size() - 1 - window] - best_score <
-            improvement * best_history[best_history.size() - 1 - window]) {
-      if (smoothed_phase_pending && best_score > kSmoothedPhaseShare * input_score) {
-        smoothed_phase_pending = false;
-        second_phase = true;
-        if (options.ruling_smoothing < 0) {
-          // Targets averaged along the rulings, not across them: the
-          // isotropic average of target_smoothing flattened wavy shapes
-          // (issue 11; docs/families.md).
-          ruling_rounds = kRulingRounds;
-          ruling_smoother.emplace(triangles, result.patch_ids, connectivity);
-        } else {
-          smoothing_rounds = 1;
-          smoother.emplace(triangles, result.patch_ids, connectivity);
-        }
-        first_phase_flat = stats.flat_share_after;
-        first_phase_move = std::max(rms_move(result.positions, positions), 0.05 * ae);
+    // stopped getting better, while the free boundary slowly drifts.
+    if (stall.stalled(best_score)) {
+      if (second_phase_pending && best_score > kSmoothedPhaseShare * input.score) {
         // Restart from the best iterate, with curves fitted on it (not on
         // the last iterate, which may have crumpled).
+        second_phase_pending = false;
+        second_phase = true;
+        targets.start_second_phase();
+        first_phase_flat = stats.flat_share_after;
+        first_phase_move = std::max(rms_move(result.positions, positions), 0.05 * stats.average_edge_length);
         current = result.positions;
         normals = face_normals(current, triangles);
-        refit_next = true;
-        best_history.clear();
+        stall.restart();
         continue;
       }
       stats.stop_reason = StopReason::stalled;
       break;
     }
   }
-  result.curves = std::move(best_curves);
-  result.target_normals = std::move(best_targets);
-  if (improved) {
-    stats.result = ResultKind::improved;
-    if (stats.max_defect_after > stats.max_defect_before) {
-      char text[160];
-      std::snprintf(text, sizeof text,
-                    "Improved, but the largest |defect| grew from %.3g to %.3g rad.",
-                    stats.max_defect_before, stats.max_defect_after);
-      stats.result_message = text;
-    }
-  } else {
-    stats.result = ResultKind::unchanged;
-    stats.result_message = unchanged_message(rejected);
-  }
   stats.time_iterate_ms = elapsed_ms(iterate_start);
 
-  // Pinned vertices keep the caller's exact bits whatever the solver did.
+  // Step "polish" (stage 8): the angle defects driven to zero from the best
+  // iterate (or the input), kept only if eligible and better.
+  if (polish) {
+    PolishOptions polish_options;
+    polish_options.limit = limit;
+    if (std::count(scored.begin(), scored.end(), true) <= kPolishDirectVertices)
+      polish_options.active_defect = std::min(polish_options.active_defect, kPolishActiveShare * before.mean_abs);
+    const auto polish_start = Clock::now();
+    const PolishResult polished = polish_defects(result.positions, positions, normals_before, triangles, scored,
+                                                 pinned, polish_options, progress.sub(0.95, 1.0));
+    stats.polish_iterations = polished.iterations;
+    if (polished.iterations > 0) {
+      const Figures now = judge.measure(polished.positions, face_normals(polished.positions, triangles));
+      if (judge.eligible(now) && now.score < best_score) {
+        improved = true;
+        best_score = now.score;
+        result.positions = polished.positions;
+        result.defect_after = now.defects;
+        stats.mean_defect_after = now.defect.mean_abs;
+        stats.max_defect_after = now.defect.max_abs;
+        stats.flat_share_after = now.flat;
+      }
+    }
+    stats.time_polish_ms = elapsed_ms(polish_start);
+  }
+
+  stats.result = improved ? ResultKind::improved : ResultKind::unchanged;
+  stats.result_message = result_message(stats, judge.rejected());
+  // Pinned vertices keep the caller's exact bits whatever the solvers did.
   for (Eigen::Index v = 0; v < n; ++v)
     if (pinned[static_cast<size_t>(v)]) result.positions.row(v) = positions.row(v);
   for (Eigen::Index v = 0; v < n; ++v)
     stats.max_vertex_move = std::max(stats.max_vertex_move, (result.positions.row(v) - positions.row(v)).norm());
-  stats.change_percent = 100.0 * (stats.mean_defect_after - stats.mean_defect_before) /
-                         stats.mean_defect_before;
+  stats.change_percent = 100.0 * (stats.mean_defect_after - stats.mean_defect_before) / stats.mean_defect_before;
   stats.time_total_ms = elapsed_ms(start_time);
   progress.report(1.0, "done");
   return result;

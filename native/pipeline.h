@@ -8,6 +8,7 @@
 #pragma once
 
 #include "curve_search.h"
+#include "defect_polish.h"
 #include "deformation.h"
 #include "ideal_curve.h"
 #include "segmentation.h"
@@ -50,6 +51,9 @@ inline constexpr double kFlatDefect = 1e-3;
 struct PipelineOptions {
   double omega = 5.0;                   // weight of the normal rows, > 0
   double tolerance = 10.0;              // E_allow in multiples of AE; <= 0: no limit
+  // Largest vertex move as a fraction of the bounding box's diagonal; the
+  // smaller of this and `tolerance` applies; <= 0: no limit.
+  double max_move = 0.01;
   int max_iterations = 400;             // >= 1; most runs stall or converge long before
   int refit_interval = 5;               // refit mode: refit the curves every this many
                                         // iterations, re-project onto them in between
@@ -77,6 +81,9 @@ struct PipelineOptions {
   // Threads of the target search (curve_search.h); 0: the machine's, at most
   // 8. The result is bit-identical whatever the count.
   int threads = 0;
+  // The angle-defect polish after the deformation (defect_polish.h): -1
+  // automatic (on in the refit mode, off in the paper mode), 0 off, 1 on.
+  int polish = -1;
 };
 
 // Throws EngineError(invalid_argument) naming the first option out of range.
@@ -106,8 +113,10 @@ struct PipelineStats {
   double max_defect_before = 0.0, max_defect_after = 0.0;
   double change_percent = 0.0;                            // dE^mean, %
   double max_vertex_move = 0.0;                           // caller's units
-  int fold_retries = 0;  // extra solves and shortenings of steps that would have folded
+  int fold_retries = 0;
+  int polish_iterations = 0;  // steps of the angle-defect polish kept (defect_polish.h)  // extra solves and shortenings of steps that would have folded
   double time_decompose_ms = 0.0, time_iterate_ms = 0.0, time_total_ms = 0.0;  // t_D, t_I, t_T
+  double time_polish_ms = 0.0;
   ResultKind result = ResultKind::unchanged;
   Eigen::Index faces_turned_over = 0;  // faces of the result > 90 degrees from the input's
   double flat_share_before = 0.0, flat_share_after = 0.0;  // interior share with |defect| < kFlatDefect

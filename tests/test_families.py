@@ -1,13 +1,25 @@
 """Seeded random developables of every family of issue 11 (devkit/families.py)
-through the engine's defaults, on seeds no one tuned on (100-104; the tuning
-seeds are 0-9).
+through the engine's defaults, on seeds no one tuned on (100-102 for every
+family and triangulation; the tuning seeds are 0-9).
 
 Every run, whatever the family: no face turned over, mean |defect| and the
 flat share no worse than the input's, the input returned as is when the
-result says unchanged. Per family, the bounds the engine meets today
-(docs/families.md has the table; the issue's goals are stricter, see the
-report there): the median dE over the seeds, the lowest flat share, and the
-largest Hausdorff distance to the noise-free twin over the input's.
+result says unchanged. Then the issue's bounds where the engine meets them
+(docs/families.md has the whole table and says where it does not):
+  - grids (one diagonal or alternating), every family but curved folds and
+    tangent developables of random curves: each run's mean |defect| down at
+    least 98 % (their median at least 99 %), at least 95 % of the interior
+    vertices flat (|defect| < 1e-3 rad);
+  - and, for cylinders, cones and planes on grids, the Hausdorff distance to
+    the noise-free twin at most 1.5 times the input's (the noise removed, not
+    the shape changed);
+  - curved folds: at least 95 % flat and the mean down at least 90 %;
+  - irregular triangulations (jittered Delaunay) but of random-curve tangent
+    developables and generalized cones: the mean down at least 95 %.
+The Hausdorff ratio of the other families is above the issue's 1.5 (tangent
+developables and wavy generalized cylinders and cones: the deformation moves
+their shape a few times the noise); each family's median is held to today's
+with room, so that a change that moves the shape more fails here.
 """
 import os
 import sys
@@ -21,7 +33,19 @@ from devkit import families  # noqa: E402
 from devkit.distance import sampled_hausdorff  # noqa: E402
 import native  # noqa: E402
 
-SEEDS = range(100, 105)
+SEEDS = range(100, 103)
+GRIDS = ("grid", "alternating")
+SHAPE_KEPT = ("cylinder_patch", "cylinder_band", "cone_patch", "cone_band", "plane")
+NOT_ON_GRIDS = ("curved_fold", "tangent_random")
+NOT_ON_IRREGULAR = ("tangent_random", "generalized_cone")
+# family -> the largest median Hausdorff ratio accepted: today's median
+# (docs/families.md) times 1.5, at least 1.5.
+MEDIAN_RATIO = {
+    "cylinder_patch": 1.7, "cylinder_band": 1.5, "cone_patch": 2.0, "cone_band": 1.5,
+    "tangent_helix": 2.6, "tangent_cubic": 2.6, "tangent_random": 7.0,
+    "generalized_cylinder": 2.5, "generalized_cone": 8.0, "bent_sheet": 3.5,
+    "curved_fold": 2.7, "plane": 1.5,
+}
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -65,33 +89,15 @@ def test_curved_folds_refuse_irregular_triangulations():
 
 # -- the engine on them -------------------------------------------------------------------
 
-# family -> (median dE % at most, lowest flat share at least, largest H/H0 at most),
-# measured on this commit over seeds 100-104 (docs/families.md); None: not bounded yet.
-BOUNDS = {
-    "cylinder_patch": (-88.0, 0.45, 14.0),
-    "cylinder_band": (-90.0, 0.25, 1.5),
-    "cone_patch": (-90.0, 0.75, 16.0),
-    "cone_band": (-88.0, 0.9, 2.7),
-    "tangent_helix": (-50.0, 0.05, 8.0),
-    "tangent_cubic": (-55.0, 0.2, 5.0),
-    "tangent_random": (-8.0, None, 44.0),
-    "generalized_cylinder": (-50.0, 0.4, 12.0),
-    "generalized_cone": (-88.0, 0.25, 13.0),
-    "bent_sheet": (-92.0, 0.7, 10.0),
-    "curved_fold": (-55.0, 0.6, 4.5),
-    "plane": (-99.9, 0.99, 1.0),
-}
-
-
-@pytest.mark.parametrize("family", families.FAMILIES)
-def test_engine_on_family(family):
-    changes, flats, ratios = [], [], []
+def run_family(family, triangulation):
+    """The figures of every seed: (dE %, flat share, Hausdorff ratio to the twin)."""
+    figures = []
     for seed in SEEDS:
-        m = families.random_case(family, seed)
+        m = families.random_case(family, seed, triangulations=[triangulation])
         r = native.run(m.positions, m.triangles)
         s = r.stats
-        where = "%s seed %d (%s, %d faces, noise %.3f AE)" % (family, seed, m.triangulation,
-                                                               len(m.triangles), m.noise)
+        where = "%s/%s seed %d (%d faces, noise %.3f AE)" % (family, triangulation, seed, len(m.triangles),
+                                                             m.noise)
         turned = np.einsum("ij,ij->i", face_normals(m.positions, m.triangles),
                            face_normals(r.positions, m.triangles)) < 0
         assert not turned.any() and s["faces_turned_over"] == 0, where
@@ -99,14 +105,55 @@ def test_engine_on_family(family):
         assert s["flat_share_after"] >= s["flat_share_before"], where
         if s["result"] == native.RESULT_UNCHANGED:
             assert np.array_equal(r.positions, m.positions) and s["result_message"], where
-        changes.append(s["change_percent"])
-        flats.append(s["flat_share_after"])
         h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
-        ratios.append(sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) / h0)
-    change, flat, ratio = BOUNDS[family]
-    if change is not None:
-        assert np.median(changes) <= change, (family, changes)
-    if flat is not None:
-        assert min(flats) >= flat, (family, flats)
-    if ratio is not None:
-        assert max(ratios) <= ratio, (family, ratios)
+        ratio = sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) / h0
+        figures.append((s["change_percent"], s["flat_share_after"], ratio, where))
+    return figures
+
+
+CASES = [(f, t) for f in families.FAMILIES for t in families.TRIANGULATIONS
+         if not (f == "curved_fold" and t == "irregular")]
+
+
+@pytest.fixture(scope="module")
+def results():
+    """Every family and triangulation, run once for all the tests below."""
+    return {case: run_family(*case) for case in CASES}
+
+
+def test_no_run_folds_or_gets_worse(results):
+    assert len(results) == len(CASES)  # run_family asserted each run
+
+
+@pytest.mark.parametrize("family", [f for f in families.FAMILIES if f not in NOT_ON_GRIDS])
+def test_grids_become_developable(results, family):
+    runs = [r for t in GRIDS for r in results[(family, t)]]
+    for change, flat, _, where in runs:
+        assert change <= -98.0, where
+        assert flat >= 0.95, where
+    assert np.median([r[0] for r in runs]) <= -99.0
+
+
+@pytest.mark.parametrize("family", SHAPE_KEPT)
+def test_grids_keep_the_shape_within_the_noise(results, family):
+    for _, _, ratio, where in [r for t in GRIDS for r in results[(family, t)]]:
+        assert ratio <= 1.5, where
+
+
+def test_curved_folds_become_developable(results):
+    for t in ("grid", "alternating", "slivers"):
+        for change, flat, _, where in results[("curved_fold", t)]:
+            assert flat >= 0.95 and change <= -90.0, where
+
+
+@pytest.mark.parametrize("family", [f for f in families.FAMILIES
+                                    if f not in NOT_ON_IRREGULAR and f != "curved_fold"])
+def test_irregular_triangulations_become_developable(results, family):
+    for change, _, _, where in results[(family, "irregular")]:
+        assert change <= -95.0, where
+
+
+@pytest.mark.parametrize("family", families.FAMILIES)
+def test_the_shape_moves_no_more_than_today(results, family):
+    ratios = [r[2] for (f, _), runs in results.items() if f == family for r in runs]
+    assert np.median(ratios) <= MEDIAN_RATIO[family], (family, sorted(ratios))

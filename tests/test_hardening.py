@@ -318,7 +318,10 @@ def test_extreme_scale_with_the_defaults(library, scale):
     assert_sound(r2, p * scale, 10)
     assert np.abs(relative(r2, p * scale) - relative(r1, p)).max() < 0.05
     assert r2.stats["mean_defect_after"] < 0.5 * r2.stats["mean_defect_before"]
-    assert r2.stats["mean_defect_after"] == pytest.approx(r1.stats["mean_defect_after"], rel=0.3)
+    # As good: within 30 %, or both far below the flat threshold (the polish
+    # stops anywhere under 1e-7 rad).
+    e1, e2 = r1.stats["mean_defect_after"], r2.stats["mean_defect_after"]
+    assert e2 <= max(1.3 * e1, 1e-7) and e1 <= max(1.3 * e2, 1e-7)
 
 
 @pytest.mark.parametrize("scale", [1e-12, 1e12])
@@ -385,7 +388,10 @@ def sliver_mesh():
 NUMERICAL = {
     "default": ({}, "developable"),
     "omega 1e12": (dict(omega=1e12), "developable"),
-    "omega 1e-12": (dict(omega=1e-12), "unmoved"),
+    # the deformation's normal rows weigh ~0, so it stays put; the polish
+    # (no omega) then does all the work
+    "omega 1e-12": (dict(omega=1e-12), "developable"),
+    "omega 1e-12 no polish": (dict(omega=1e-12, polish=0), "unmoved"),
     # the coupled 3n x 3n matrix with normal rows 1e12 times the position rows
     # is not positive definite in double precision: refused, not a bad result
     "omega 1e12 coupled": (dict(omega=1e12, solver=native.SOLVER_COUPLED), "NUMERICAL_FAILURE"),
@@ -522,7 +528,7 @@ native.load(path=%(lib)r)
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 start = time.perf_counter()
 try:
-    r = native.run(p, t, params=dict(max_iterations=1, segmentation=0))
+    r = native.run(p, t, params=dict(max_iterations=1, segmentation=0, polish=%(polish)d))
     out = {"status": "OK", "finite": bool(np.isfinite(r.positions).all()),
            "better": r.stats["mean_defect_after"] <= r.stats["mean_defect_before"]}
 except native.EngineError as error:
@@ -535,8 +541,10 @@ print("RESULT " + json.dumps(out))
 
 @pytest.mark.skipif(SANITIZED, reason="2M faces under ASan: minutes; the normal build covers it")
 def test_two_million_faces_work_or_are_refused_cleanly(library_path, tmp_path):
+    """One iteration, no polish: a polish of raw noise on 2M faces takes minutes
+    (its memory is in the estimate all the same; the next test runs it)."""
     script = tmp_path / "two_million.py"
-    script.write_text(TWO_MILLION % {"repo": str(REPO), "lib": str(library_path)})
+    script.write_text(TWO_MILLION % {"repo": str(REPO), "lib": str(library_path), "polish": 0})
     run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=1200)
     assert run.returncode == 0, run.stderr[-3000:]
     line = [x for x in run.stdout.splitlines() if x.startswith("RESULT ")][-1]

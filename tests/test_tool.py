@@ -18,7 +18,7 @@ def test_help(tool_path):
     run = run_tool(tool_path, "--help")
     assert run.returncode == 0
     for option in ("--omega", "--tolerance", "--max-iterations", "--mode", "--pin-boundary",
-                   "--pin", "--report", "--quiet", "--segmentation", "--seams"):
+                   "--pin", "--report", "--quiet", "--segmentation", "--seams", "--max-move", "--polish"):
         assert option in run.stdout
 
 
@@ -44,7 +44,7 @@ def test_run_with_report_and_pins(tool_path, tmp_path):
     pinned = [0, 5, 715]  # on the boundary rings: an interior pin would hold the bulge
     pins.write_text("\n".join(map(str, pinned)) + "\n")
     run = run_tool(tool_path, source, target, "--pin-boundary", "--pin", pins, "--tolerance", "10",
-                   "--omega", "5", "--report", report)
+                   "--max-move", "0", "--omega", "5", "--report", report)
     assert run.returncode == 0, run.stderr
     assert "E_before" in run.stderr and "t_T" in run.stderr
     data = json.loads(report.read_text())

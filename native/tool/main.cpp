@@ -27,6 +27,9 @@ const char* const usage_text =
     "  --omega X            weight of the normal rows (default 5)\n"
     "  --tolerance X        E_allow: largest vertex move in multiples of the average\n"
     "                       edge length AE; 0 for no limit (default 10)\n"
+    "  --max-move X         largest vertex move as a fraction of the bounding box's\n"
+    "                       diagonal; the smaller limit applies; 0 for no limit\n"
+    "                       (default 0.01)\n"
     "  --max-iterations N   iteration limit (default 400)\n"
     "  --mode refit|paper   refit the ideal curve every iteration (default), or the\n"
     "                       paper's one set of targets\n"
@@ -43,7 +46,9 @@ const char* const usage_text =
     "  --target-smoothing N rounds of averaging the target normals inside each patch\n"
     "                       (default: 1 on a segmented mesh in refit mode; on one\n"
     "                       patch 0, then averaging along the rulings if the run\n"
-    "                       stalls far from developable)\n"
+    "                       stalls far from developable and the polish is off)\n"
+    "  --polish auto|on|off drive the angle defects to zero after the deformation\n"
+    "                       (default auto: on in refit mode, off in paper mode)\n"
     "  --report FILE.json   write the run's figures, patch ids and curves as JSON\n"
     "                       (with --pattern also the pattern's pieces and seams)\n"
     "\n"
@@ -196,6 +201,7 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
   json << "{\n  \"engine_version\": \"" << dev_version_string() << "\",\n";
   json << "  \"parameters\": {\"omega\": " << json_number(params.omega)
        << ", \"tolerance_ae\": " << json_number(params.tolerance)
+       << ", \"max_move\": " << json_number(params.max_move) << ", \"polish\": " << params.polish
        << ", \"max_iterations\": " << params.max_iterations << ", \"mode\": \""
        << (params.mode == DEV_MODE_PAPER ? "paper" : "refit") << "\", \"solver\": \""
        << (params.solver == DEV_SOLVER_COUPLED ? "coupled" : "decoupled")
@@ -218,6 +224,8 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
        << ", \"time_decompose_ms\": " << json_number(s.time_decompose_ms)
        << ", \"time_iterate_ms\": " << json_number(s.time_iterate_ms)
        << ", \"time_total_ms\": " << json_number(s.time_total_ms)
+       << ", \"time_polish_ms\": " << json_number(s.time_polish_ms)
+       << ", \"polish_iterations\": " << s.polish_iterations
        << ", \"result\": \"" << (s.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved") << "\""
        << ", \"faces_turned_over\": " << s.faces_turned_over
        << ", \"flat_share_before\": " << json_number(s.flat_share_before)
@@ -286,6 +294,11 @@ int main(int argc, char** argv) {
       params.omega = parse_number(arg, value());
     } else if (arg == "--tolerance") {
       params.tolerance = parse_number(arg, value());
+    } else if (arg == "--max-move") {
+      params.max_move = parse_number(arg, value());
+    } else if (arg == "--polish") {
+      const int index = choice({"auto", "on", "off"});
+      params.polish = index == 0 ? -1 : (index == 1 ? 1 : 0);
     } else if (arg == "--max-iterations") {
       params.max_iterations = parse_integer(arg, value());
     } else if (arg == "--mode") {
@@ -397,15 +410,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "#v %lld  #f %lld  AE %.4g  patches %lld\n"
                  "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
-                 "iterations %d (%s)  largest move %.4g (%.3g AE)\n"
-                 "t_D %.2f ms  t_I %.2f ms  t_T %.2f ms\n",
+                 "iterations %d (%s), polish %d  largest move %.4g (%.3g AE)\n"
+                 "t_D %.2f ms  t_I %.2f ms  polish %.2f ms  t_T %.2f ms\n",
                  static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces),
                  stats.average_edge_length, static_cast<long long>(stats.patches),
                  stats.mean_defect_before, stats.mean_defect_after, stats.change_percent,
                  stats.max_defect_before, stats.max_defect_after, stats.iterations,
-                 stop_reason_name(stats.stop_reason), stats.max_vertex_move,
+                 stop_reason_name(stats.stop_reason), stats.polish_iterations, stats.max_vertex_move,
                  stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
-                 stats.time_iterate_ms, stats.time_total_ms);
+                 stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
     std::fprintf(stderr, "flat %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
                  100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after,
                  static_cast<long long>(stats.faces_turned_over),

@@ -37,9 +37,11 @@ std::string refusal(int64_t vertices, int64_t triangles, const PipelineOptions& 
   return "";
 }
 
-TEST(MemoryBudget, EstimateGrowsWithTheMeshAndTheCoupledSolver) {
+TEST(MemoryBudget, EstimateGrowsWithTheMeshTheCoupledSolverAndThePolish) {
   PipelineOptions decoupled, coupled, paper;
   coupled.solver = Formulation::coupled;
+  coupled.polish = 0;  // as in the paper mode, where the automatic polish is off
+  decoupled.polish = 0;
   paper.mode = Mode::paper;
   double previous = 0.0;
   for (int64_t faces : {1000, 10000, 100000, 1000000}) {
@@ -48,6 +50,8 @@ TEST(MemoryBudget, EstimateGrowsWithTheMeshAndTheCoupledSolver) {
     previous = d;
     EXPECT_GT(estimated_peak_bytes(faces / 2, faces, coupled), d);
     EXPECT_EQ(estimated_peak_bytes(faces / 2, faces, paper), estimated_peak_bytes(faces / 2, faces, coupled));
+    PipelineOptions polished;
+    EXPECT_GT(estimated_peak_bytes(faces / 2, faces, polished), d);
   }
 }
 

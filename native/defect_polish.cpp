@@ -1,0 +1,347 @@
+#include "defect_polish.h"
+
+#include "measures.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+
+namespace developable {
+namespace {
+
+using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+// Levenberg-Marquardt damping, relative to the mean diagonal of J J^T.
+constexpr double kInitialDamping = 1e-6;
+constexpr double kSmallestDamping = 1e-12;
+constexpr double kLargestDamping = 1e4;
+constexpr double kDampingDown = 3.0;
+constexpr double kDampingUp = 8.0;
+// Stop when a kept step lowered sum K^2 by less than this fraction.
+constexpr double kStallDecrease = 1e-6;
+// A factor is reused while its steps lower sum K^2 by at least this fraction.
+constexpr double kReuseDecrease = 0.5;
+// Halvings of a step that does not lower sum K^2 before the factor is renewed.
+constexpr int kHalvings = 3;
+// The stall window (kept steps) and the flat threshold of the stall rule.
+constexpr size_t kStallWindow = 10;
+constexpr double kFlatDefect = 1e-3;
+// The damped system: rows up to which it is factored, and the conjugate
+// gradients' limits beyond (DampedSystem).
+constexpr Eigen::Index kDirectRows = 20000;
+constexpr int kIterativeSteps = 100;
+constexpr double kIterativeTolerance = 1e-8;
+// Rounds of putting back the corners of faces a step turns over before the
+// step counts as not kept.
+constexpr int kRevertRounds = 10;
+
+// dK/dx of the constrained vertices, with a pattern fixed at construction:
+// row r (constrained vertex v) holds the three coordinates of every free
+// vertex of v's closed star, so J J^T keeps one pattern for the whole run.
+class DefectJacobian {
+ public:
+  DefectJacobian(const Triangles& triangles, const std::vector<int>& row_of, const std::vector<int>& free_of,
+                 Eigen::Index rows, Eigen::Index free_count)
+      : triangles_(triangles), row_of_(row_of), free_of_(free_of) {
+    // The free vertices of each constrained vertex's closed star, sorted.
+    std::vector<std::vector<int>> star(static_cast<size_t>(rows));
+    for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+      for (int c = 0; c < 3; ++c) {
+        const int row = row_of[static_cast<size_t>(triangles(f, c))];
+        if (row < 0) continue;
+        for (int k = 0; k < 3; ++k) {
+          const int u = free_of[static_cast<size_t>(triangles(f, k))];
+          if (u >= 0) star[static_cast<size_t>(row)].push_back(u);
+        }
+      }
+    jacobian_.resize(rows, 3 * free_count);
+    Eigen::VectorXi sizes(rows);
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      auto& s = star[static_cast<size_t>(r)];
+      std::sort(s.begin(), s.end());
+      s.erase(std::unique(s.begin(), s.end()), s.end());
+      sizes[r] = 3 * static_cast<int>(s.size());
+    }
+    jacobian_.reserve(sizes);
+    for (Eigen::Index r = 0; r < rows; ++r)
+      for (int u : star[static_cast<size_t>(r)])
+        for (int k = 0; k < 3; ++k) jacobian_.insert(r, 3 * u + k) = 0.0;
+    jacobian_.makeCompressed();
+  }
+
+  const RowMatrix& matrix() const { return jacobian_; }
+
+  // Fills the values at `positions` and returns K of the constrained rows.
+  Eigen::VectorXd evaluate(const Positions& positions, const Eigen::VectorXd& defects) {
+    std::fill(jacobian_.valuePtr(), jacobian_.valuePtr() + jacobian_.nonZeros(), 0.0);
+    Eigen::VectorXd residual(jacobian_.rows());
+    for (size_t v = 0; v < row_of_.size(); ++v)
+      if (row_of_[v] >= 0) residual[row_of_[v]] = defects[static_cast<Eigen::Index>(v)];
+    for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+      for (int c = 0; c < 3; ++c) {
+        const int a = triangles_(f, c), b = triangles_(f, (c + 1) % 3), d = triangles_(f, (c + 2) % 3);
+        const int row = row_of_[static_cast<size_t>(a)];
+        if (row < 0) continue;
+        const Eigen::Vector3d u = (positions.row(b) - positions.row(a)).transpose();
+        const Eigen::Vector3d w = (positions.row(d) - positions.row(a)).transpose();
+        const Eigen::Vector3d cross = u.cross(w);
+        const double length = cross.norm();
+        if (!(length > 0.0)) continue;  // a collapsed corner has no direction to move in
+        const Eigen::Vector3d n = cross / length;
+        // K_a = 2 pi - sum theta: dK/dx = -d theta/dx.
+        const Eigen::Vector3d grad_b = n.cross(u) / u.squaredNorm();   // -d theta / d b
+        const Eigen::Vector3d grad_d = -n.cross(w) / w.squaredNorm();  // -d theta / d d
+        add(row, a, -(grad_b + grad_d));
+        add(row, b, grad_b);
+        add(row, d, grad_d);
+      }
+    }
+    return residual;
+  }
+
+ private:
+  void add(int row, int vertex, const Eigen::Vector3d& gradient) {
+    const int u = free_of_[static_cast<size_t>(vertex)];
+    if (u < 0) return;
+    const int* begin = jacobian_.innerIndexPtr() + jacobian_.outerIndexPtr()[row];
+    const int* end = jacobian_.innerIndexPtr() + jacobian_.outerIndexPtr()[row + 1];
+    const int* at = std::lower_bound(begin, end, 3 * u);
+    double* value = jacobian_.valuePtr() + (at - jacobian_.innerIndexPtr());
+    value[0] += gradient[0];
+    value[1] += gradient[1];
+    value[2] += gradient[2];
+  }
+
+  const Triangles& triangles_;
+  const std::vector<int>& row_of_;
+  const std::vector<int>& free_of_;
+  RowMatrix jacobian_;
+};
+
+// The damped system (J J^T + damping) y = K. Up to kDirectRows rows, a
+// sparse Cholesky factorisation (exact steps, few iterations); above, J J^T
+// couples each vertex to its two rings and the factor fills in (50k rows:
+// 10M entries, 1.2 s a factorisation), so conjugate gradients with a
+// diagonal preconditioner take over (memory of J J^T only, 0.15 s a solve
+// at 50k rows); the Levenberg-Marquardt test takes their inexact steps or
+// not like any other.
+class DampedSystem {
+ public:
+  // Factors (or prepares) `matrix`, kept by the system; false on failure.
+  bool compute(Eigen::SparseMatrix<double> matrix) {
+    matrix_ = std::move(matrix);
+    if (matrix_.rows() <= kDirectRows) {
+      if (!analysed_) {
+        direct_.analyzePattern(matrix_);
+        analysed_ = true;
+      }
+      direct_.factorize(matrix_);
+      return direct_.info() == Eigen::Success;
+    }
+    iterative_.setMaxIterations(kIterativeSteps);
+    iterative_.setTolerance(kIterativeTolerance);
+    iterative_.compute(matrix_);
+    return iterative_.info() == Eigen::Success;
+  }
+
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
+    if (matrix_.rows() <= kDirectRows) return direct_.solve(rhs);
+    return iterative_.solve(rhs);
+  }
+
+ private:
+  Eigen::SparseMatrix<double> matrix_;  // the iterative solver reads it at every solve
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> direct_;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> iterative_;
+  bool analysed_ = false;
+};
+
+// Faces more than 90 degrees from their reference normal, or collapsed.
+std::vector<Eigen::Index> turned_over(const Normals& normals, const Normals& reference) {
+  std::vector<Eigen::Index> faces;
+  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
+    if (reference.row(f).squaredNorm() == 0.0) continue;
+    if (normals.row(f).dot(reference.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0) faces.push_back(f);
+  }
+  return faces;
+}
+
+}  // namespace
+
+PolishResult polish_defects(const Positions& start, const Positions& reference, const Normals& reference_normals,
+                            const Triangles& triangles, const std::vector<bool>& constrained,
+                            const std::vector<bool>& pinned, const PolishOptions& options,
+                            const Progress& progress) {
+  const Eigen::Index n = start.rows();
+  if (reference.rows() != n || static_cast<Eigen::Index>(constrained.size()) != n ||
+      (!pinned.empty() && static_cast<Eigen::Index>(pinned.size()) != n) ||
+      reference_normals.rows() != triangles.rows())
+    throw EngineError(Status::internal_error, "polish_defects: sizes disagree");
+
+  PolishResult result;
+  result.positions = start;
+  const std::vector<bool> interior = constrained;  // angle_defects' mask: only these are read
+  Eigen::VectorXd defects = angle_defects(start, triangles, interior);
+
+  // Active: the constrained vertices still above options.active_defect.
+  // Unknowns: the free vertices of their closed stars. Rows: the constrained
+  // vertices whose star holds an unknown, i.e. every defect a step can
+  // change. Everything else stays where it is, so a mesh that is flat but
+  // for a few vertices costs a system of their size.
+  auto is_free = [&](int v) { return pinned.empty() || !pinned[static_cast<size_t>(v)]; };
+  std::vector<bool> moves(static_cast<size_t>(n), false);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    bool active = false;
+    for (int c = 0; c < 3; ++c) {
+      const int v = triangles(f, c);
+      active = active || (constrained[static_cast<size_t>(v)] && std::abs(defects[v]) >= options.active_defect);
+    }
+    if (active)
+      for (int c = 0; c < 3; ++c) moves[static_cast<size_t>(triangles(f, c))] = is_free(triangles(f, c));
+  }
+  std::vector<int> free_of(static_cast<size_t>(n), -1);
+  Eigen::Index free_count = 0;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (moves[static_cast<size_t>(v)]) free_of[static_cast<size_t>(v)] = static_cast<int>(free_count++);
+  std::vector<bool> reachable(static_cast<size_t>(n), false);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    if (moves[static_cast<size_t>(triangles(f, 0))] || moves[static_cast<size_t>(triangles(f, 1))] ||
+        moves[static_cast<size_t>(triangles(f, 2))])
+      for (int c = 0; c < 3; ++c) reachable[static_cast<size_t>(triangles(f, c))] = true;
+  }
+  std::vector<int> row_of(static_cast<size_t>(n), -1);
+  Eigen::Index rows = 0;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (constrained[static_cast<size_t>(v)] && reachable[static_cast<size_t>(v)])
+      row_of[static_cast<size_t>(v)] = static_cast<int>(rows++);
+  if (rows == 0 || free_count == 0) return result;
+
+  DefectJacobian jacobian(triangles, row_of, free_of, rows, free_count);
+  Eigen::VectorXd residual = jacobian.evaluate(start, defects);
+  result.residual_before = std::sqrt(residual.squaredNorm() / static_cast<double>(rows));
+  result.residual_after = result.residual_before;
+  auto residual_at = [&](const Eigen::VectorXd& d) {
+    Eigen::VectorXd r(rows);
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (row_of[static_cast<size_t>(v)] >= 0) r[row_of[static_cast<size_t>(v)]] = d[v];
+    return r;
+  };
+
+  // J J^T + damping is factored at one iterate and reused while its steps
+  // keep lowering sum K^2 well (the vertices move little, so J changes
+  // little); it is refactored at the current iterate when a step gains
+  // little, and with more damping when even a fresh factor's steps fail.
+  DampedSystem system;
+  bool fresh = false;
+  double damping = kInitialDamping;
+  auto factor = [&]() {
+    const RowMatrix& J = jacobian.matrix();
+    Eigen::SparseMatrix<double> normal = J * J.transpose();
+    const double scale = normal.diagonal().mean();
+    if (!(scale > 0.0) || !std::isfinite(scale)) return false;
+    for (Eigen::Index r = 0; r < rows; ++r) normal.coeffRef(r, r) += damping * scale;
+    fresh = true;
+    return system.compute(std::move(normal));
+  };
+  Positions current = start;
+  double energy = residual.squaredNorm();
+  bool factored = false;
+  std::vector<std::pair<double, Eigen::Index>> history;  // (sum K^2, flat rows) after each kept step
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    if (residual.lpNorm<Eigen::Infinity>() < options.target_defect) break;
+    progress.report(static_cast<double>(iteration) / options.max_iterations, "polish");
+    bool kept = false;
+    Positions trial;
+    Eigen::VectorXd trial_defects;
+    double trial_energy = 0.0;
+    while (!kept) {
+      if (!factored || !fresh) {
+        factored = factor();
+        if (!factored) {
+          damping *= kDampingUp;
+          if (damping > kLargestDamping) break;
+          continue;
+        }
+      }
+      const Eigen::VectorXd step = -(jacobian.matrix().transpose() * system.solve(residual));
+      if (!step.allFinite()) {
+        factored = false;
+        damping *= kDampingUp;
+        if (damping > kLargestDamping) break;
+        continue;
+      }
+      double length = 1.0;
+      for (int halving = 0; halving <= kHalvings && !kept; ++halving, length *= 0.5) {
+        trial = current;
+        for (Eigen::Index v = 0; v < n; ++v) {
+          const int u = free_of[static_cast<size_t>(v)];
+          if (u < 0) continue;
+          trial.row(v) += length * step.segment<3>(3 * u).transpose();
+          if (options.limit > 0.0) {
+            const Eigen::RowVector3d move = trial.row(v) - reference.row(v);
+            const double distance = move.norm();
+            if (distance > options.limit) trial.row(v) = reference.row(v) + move * (options.limit / distance);
+          }
+        }
+        // Faces near 90 degrees from their reference turn over at any step
+        // length (human_woman): their corners keep their place instead,
+        // ring by ring.
+        bool folded = false;
+        for (int round = 0;; ++round) {
+          const std::vector<Eigen::Index> turned = turned_over(face_normals(trial, triangles), reference_normals);
+          if (turned.empty()) break;
+          if (round == kRevertRounds) {
+            folded = true;
+            break;
+          }
+          for (Eigen::Index f : turned)
+            for (int c = 0; c < 3; ++c) trial.row(triangles(f, c)) = current.row(triangles(f, c));
+        }
+        if (folded) continue;
+        trial_defects = angle_defects(trial, triangles, interior);
+        trial_energy = residual_at(trial_defects).squaredNorm();
+        kept = trial_energy < energy;
+      }
+      if (kept) break;
+      // The full step and its halvings failed: a stale factor is refreshed
+      // first, a fresh one gets more damping.
+      if (fresh) damping *= kDampingUp;
+      fresh = false;
+      factored = false;
+      if (damping > kLargestDamping) break;
+    }
+    if (!kept) break;
+    const double decrease = (energy - trial_energy) / energy;
+    current = std::move(trial);
+    defects = std::move(trial_defects);
+    residual = jacobian.evaluate(current, defects);
+    energy = trial_energy;
+    ++result.iterations;
+    if (decrease < kStallDecrease) break;
+    // Stalled: over the last kStallWindow steps sum K^2 fell by less than
+    // half and no vertex became flat (|K| < kFlatDefect): the rest is
+    // curvature the constraints cannot remove (the corners of a hull).
+    const Eigen::Index flat = (residual.array().abs() < kFlatDefect).count();
+    history.push_back({energy, flat});
+    if (history.size() > kStallWindow) {
+      const auto& then = history[history.size() - 1 - kStallWindow];
+      if (energy > 0.5 * then.first && flat <= then.second) break;
+    }
+    // A factor whose step gained well is kept; else refactor (with less
+    // damping when the fresh one did well).
+    fresh = false;
+    if (decrease < kReuseDecrease) {
+      factored = false;
+      damping = std::max(damping / kDampingDown, kSmallestDamping);
+    }
+  }
+  result.positions = std::move(current);
+  result.residual_after = std::sqrt(residual.squaredNorm() / static_cast<double>(rows));
+  return result;
+}
+
+}  // namespace developable

@@ -1,0 +1,73 @@
+// Stage 8 of the pipeline (beyond the paper): the angle-defect polish.
+//
+// The normal-guided deformation (stage 7) pulls the face normals onto the
+// ideal curves; it controls the angle defect only through them. Where the
+// normals are on their curves and the defect still is not zero (the crease
+// of a curved fold, irregular connectivity, one-diagonal grids, whose quads
+// cannot hold the staircase of normals their rulings need) it stalls, at
+// -60 % to -92 % of the mean |defect| on issue 11's families
+// (docs/families.md). The polish works on the defects themselves: it moves
+// the vertices so that the angle defect K_v of every constrained vertex goes
+// to zero, by the least motion.
+//
+// Each iteration is a Levenberg-Marquardt step on the residual K (one entry
+// per constrained vertex), in its minimum-norm form:
+//   (J J^T + mu I) y = K,   step = -J^T y
+// where J = dK/dx (rows: constrained vertices; columns: the coordinates of
+// the free vertices). The gradient of a corner angle theta at a of the
+// triangle (a, b, c) with unit normal n is d theta / d b = -(n x (b - a)) /
+// |b - a|^2, d theta / d c = (n x (c - a)) / |c - a|^2, d theta / d a = -(sum
+// of the two); K_v = 2 pi - sum of v's corner angles. J J^T couples vertices
+// that share a neighbour; its pattern never changes, so it is analysed once
+// and factored numerically each iteration (Eigen's SimplicialLDLT). A step
+// is kept only when it lowers sum K^2, turns no face more than 90 degrees
+// from its reference normal and, after moving every vertex back within
+// `limit` of its reference position, still lowers it; else mu grows.
+//
+// The minimum-norm form moves the vertices as little as the linearisation
+// allows; it is not the closest developable mesh (that projection was tried
+// and measured no closer to the noise-free surfaces: docs/method.md).
+#pragma once
+
+#include "types.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace developable {
+
+struct PolishOptions {
+  int max_iterations = 100;      // Levenberg-Marquardt iterations, >= 1
+  double target_defect = 1e-7;  // stop once every |K| the polish works on is below this (rad)
+  // Only vertices with |K| at or above this move, with their stars (rad); by
+  // default a tenth of the flat threshold 1e-3.
+  double active_defect = 1e-4;
+  double limit = 0.0;           // largest distance from `reference`, caller's units; <= 0: none
+};
+
+struct PolishResult {
+  Positions positions;          // the polished mesh (== start when no step was kept)
+  int iterations = 0;           // steps kept
+  double residual_before = 0.0; // RMS of K over the constrained vertices at the start, rad
+  double residual_after = 0.0;  // the same at the end
+};
+
+// The angle-defect polish.
+//   start: positions to polish from; reference: positions the tolerance
+//   `options.limit` is measured from (the user's input); reference_normals:
+//   unit face normals a face may not turn more than 90 degrees from (the
+//   input's; zero rows are not checked); triangles: a validated mesh;
+//   constrained: the vertices whose defect is driven to zero (interior ones;
+//   others are ignored); pinned: empty or one flag per vertex, pinned
+//   vertices never move. The sizes must agree (else
+//   EngineError(internal_error)).
+// Returns `start` unchanged (iterations = 0) when nothing is constrained,
+// nothing is free, or no step could be kept. Throws EngineError(cancelled)
+// through `progress`; a factorisation that fails counts as a step not kept.
+PolishResult polish_defects(const Positions& start, const Positions& reference, const Normals& reference_normals,
+                            const Triangles& triangles, const std::vector<bool>& constrained,
+                            const std::vector<bool>& pinned, const PolishOptions& options,
+                            const Progress& progress);
+
+}  // namespace developable

@@ -1,0 +1,134 @@
+// defect_polish.h: the polish drives the constrained angle defects to zero
+// by small moves, keeps pins, the limit and the faces' orientation, and
+// returns its start when it cannot or need not move.
+#include "defect_polish.h"
+
+#include "measures.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace developable {
+namespace {
+
+// The cylinder with every coordinate moved by up to `amplitude`.
+test::Mesh noisy_cylinder(double amplitude, unsigned seed) {
+  test::Mesh m = test::cylinder(10, 30);
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> noise(-amplitude, amplitude);
+  for (Eigen::Index v = 0; v < m.positions.rows(); ++v)
+    for (int k = 0; k < 3; ++k) m.positions(v, k) += noise(random);
+  return m;
+}
+
+double largest_defect(const Positions& positions, const Triangles& triangles, const std::vector<bool>& mask) {
+  return angle_defects(positions, triangles, mask).cwiseAbs().maxCoeff();
+}
+
+TEST(DefectPolish, DrivesTheDefectsOfANoisyDevelopableToZero) {
+  const auto m = noisy_cylinder(0.01, 1);
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  ASSERT_GT(largest_defect(m.positions, m.triangles, interior), 1e-3);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  const PolishResult r =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, PolishOptions{}, Progress{});
+  EXPECT_GT(r.iterations, 0);
+  EXPECT_LT(largest_defect(r.positions, m.triangles, interior), 1e-6);
+  EXPECT_LT(r.residual_after, 1e-3 * r.residual_before);
+  // Small moves: about the noise, far below the edge length (~0.2).
+  EXPECT_LT((r.positions - m.positions).rowwise().norm().maxCoeff(), 0.05);
+  const Normals after = face_normals(r.positions, m.triangles);
+  for (Eigen::Index f = 0; f < after.rows(); ++f) EXPECT_GT(after.row(f).dot(normals.row(f)), 0.0);
+}
+
+TEST(DefectPolish, KeepsPinsAndTheLimit) {
+  const auto m = noisy_cylinder(0.01, 2);
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  std::vector<bool> pinned(static_cast<size_t>(m.positions.rows()), false);
+  for (size_t v = 0; v < pinned.size(); v += 7) pinned[v] = true;
+  PolishOptions options;
+  options.limit = 0.002;
+  const PolishResult r = polish_defects(m.positions, m.positions, face_normals(m.positions, m.triangles), m.triangles,
+                                        interior, pinned, options, Progress{});
+  EXPECT_GT(r.iterations, 0);
+  EXPECT_LT(r.residual_after, r.residual_before);
+  for (Eigen::Index v = 0; v < m.positions.rows(); ++v) {
+    if (pinned[static_cast<size_t>(v)]) {
+      EXPECT_TRUE(r.positions.row(v) == m.positions.row(v));
+    }
+    EXPECT_LE((r.positions.row(v) - m.positions.row(v)).norm(), options.limit * (1 + 1e-12));
+  }
+}
+
+TEST(DefectPolish, OnlyConstrainedVerticesCount) {
+  // Constraining half the vertices flattens those; the polish never reads the others.
+  const auto m = noisy_cylinder(0.01, 3);
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  std::vector<bool> half = interior;
+  for (size_t v = 0; v < half.size(); ++v) half[v] = half[v] && (v % 2 == 0);
+  const PolishResult r = polish_defects(m.positions, m.positions, face_normals(m.positions, m.triangles), m.triangles,
+                                        half, {}, PolishOptions{}, Progress{});
+  EXPECT_LT(largest_defect(r.positions, m.triangles, half), 1e-6);
+}
+
+TEST(DefectPolish, ReturnsItsStartWhenNothingIsToDo) {
+  const auto plane = test::plane();
+  const std::vector<bool> interior = interior_vertices(plane.positions, plane.triangles);
+  const Normals normals = face_normals(plane.positions, plane.triangles);
+  // Developable already: no vertex is active.
+  PolishResult r = polish_defects(plane.positions, plane.positions, normals, plane.triangles, interior, {},
+                                  PolishOptions{}, Progress{});
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_TRUE(r.positions == plane.positions);
+  // Everything pinned, or nothing constrained.
+  const auto m = noisy_cylinder(0.01, 4);
+  const Normals n = face_normals(m.positions, m.triangles);
+  const std::vector<bool> all(static_cast<size_t>(m.positions.rows()), true), none(all.size(), false);
+  r = polish_defects(m.positions, m.positions, n, m.triangles, interior_vertices(m.positions, m.triangles), all,
+                     PolishOptions{}, Progress{});
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_TRUE(r.positions == m.positions);
+  r = polish_defects(m.positions, m.positions, n, m.triangles, none, {}, PolishOptions{}, Progress{});
+  EXPECT_EQ(r.iterations, 0);
+}
+
+TEST(DefectPolish, CurvatureItCannotRemoveStays) {
+  // A cube's corners carry pi/2 each; within a limit of a hundredth of an
+  // edge the polish can only lower their sum of squares a little, and it
+  // never turns a face over.
+  const auto m = test::cube();
+  const std::vector<bool> all(8, true);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  PolishOptions options;
+  options.limit = 0.01;
+  const PolishResult r = polish_defects(m.positions, m.positions, normals, m.triangles, all, {}, options, Progress{});
+  EXPECT_GT(largest_defect(r.positions, m.triangles, all), 1.0);
+  const Normals after = face_normals(r.positions, m.triangles);
+  for (Eigen::Index f = 0; f < after.rows(); ++f) EXPECT_GT(after.row(f).dot(normals.row(f)), 0.0);
+}
+
+TEST(DefectPolish, RefusesSizesThatDisagreeAndCancels) {
+  const auto m = noisy_cylinder(0.01, 5);
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  try {
+    polish_defects(m.positions, m.positions.topRows(5), normals, m.triangles, interior, {}, PolishOptions{},
+                   Progress{});
+    FAIL() << "no error";
+  } catch (const EngineError& e) {
+    EXPECT_EQ(e.status(), Status::internal_error);
+  }
+  const ProgressFn stop = [](double, const char*, void*) { return false; };
+  try {
+    polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, PolishOptions{},
+                   Progress{stop, nullptr});
+    FAIL() << "not cancelled";
+  } catch (const EngineError& e) {
+    EXPECT_EQ(e.status(), Status::cancelled);
+  }
+}
+
+}  // namespace
+}  // namespace developable

@@ -187,10 +187,17 @@ def verdict(obj_name, stats, fig):
         tips = []
         if fig["faces_turned"] > 0:
             tips.append("a smaller 'Shape May Move' or Pin Boundary")
-        if e1 > e0 or fig["flat_after"] < fig["flat_before"]:
+        if e1 > e0 and fig["flat_after"] > fig["flat_before"]:
+            # A closed surface keeps its total curvature (Gauss-Bonnet): flat
+            # pieces gather it on their seams, where it no longer cancels.
+            tips.append("setting the key to 1 if flat pieces are what you want (a closed surface "
+                        "keeps its total curvature; it gathered on the seams)")
+        elif e1 > e0 or fig["flat_after"] < fig["flat_before"]:
             tips.append("the job 'Whole object into pieces' (a closed or doubly curved object "
                         "cannot flatten as one piece)")
+        engine = " Engine: %s" % engine_said.rstrip() if engine_said else ""
         return 'WARNING', 'WORSE', (
             "%s got worse: %s. The result is kept in the shape key 'Developable' at 0 (slide it "
-            "to look). Try %s. [%s]" % (obj_name, "; ".join(worse), " or ".join(tips), summary))
+            "to look). Try %s.%s [%s]" % (obj_name, "; ".join(worse), " or ".join(tips), engine,
+                                          summary))
     return 'INFO', 'IMPROVED', "%s: %s" % (obj_name, summary)

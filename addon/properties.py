@@ -25,7 +25,7 @@ GENERAL = {
     "max_iterations": 400, "mode": 'REFIT', "solver": 'DECOUPLED', "pin_boundary": False,
     "use_mls_weights": True, "stop_relative_change": 0.001, "developable_threshold": -10,
     "segmentation": 'AUTO', "auto_target_patches": True, "auto_segment_max_error": True,
-    "seams": 'FREE', "auto_grid_resolution": True, "auto_target_smoothing": True,
+    "seams": 'FREE', "auto_grid_resolution": True, "auto_target_smoothing": True, "polish": 'AUTO',
 }
 PRESETS = {
     'GENERAL': {},
@@ -72,6 +72,12 @@ SEAMS_ITEMS = [
     ("PINNED", "Seams Pinned", "As in the paper: piece borders are pinned and the pieces are "
      "deformed one by one", native.SEAMS_PINNED),
 ]
+POLISH_ITEMS = [
+    ("AUTO", "Automatic", "Finish with the angle polish, except with fixed (paper) targets", -1),
+    ("ON", "On", "After the deformation, move the vertices a little so that the angles around "
+     "every vertex sum to 360 degrees (angle defect zero)", 1),
+    ("OFF", "Off", "Stop after the deformation, as in the paper", 0),
+]
 SOLVER_ITEMS = [
     ("DECOUPLED", "Fast", "The normal rows go to the right-hand side: one n x n matrix shared by "
      "x, y and z, factored once (default)", native.SOLVER_DECOUPLED),
@@ -85,6 +91,7 @@ ENUM_VALUES = {
     "segmentation": {i[0]: i[3] for i in SEGMENTATION_ITEMS},
     "seams": {i[0]: i[3] for i in SEAMS_ITEMS},
     "solver": {i[0]: i[3] for i in SOLVER_ITEMS},
+    "polish": {i[0]: i[3] for i in POLISH_ITEMS},
 }
 
 _APPLYING = [False]  # a preset (or a copy of settings) is being applied
@@ -183,7 +190,12 @@ def engine_property_definitions():
             description="Rounds of averaging each face's target direction with its neighbours' "
             "in the same piece, so that a piece curved both ways follows a smooth target instead "
             "of crumpling. Automatic: one round on a split mesh; on one piece none, then "
-            "averaging along the rulings if the run stalls with much curvature left"),
+            "averaging along the rulings if the run stalls with much curvature left "
+            "and the angle polish is off"),
+        "polish": EnumProperty(
+            name="Angle Polish", items=POLISH_ITEMS, default="AUTO", update=u,
+            description="Finish by driving the angle defect of every vertex inside the pieces "
+            "to zero with small moves, within the same limit (beyond the paper)"),
     }
 
 
@@ -233,12 +245,15 @@ def all_property_definitions():
 
 
 ENGINE_PARAMETERS = tuple(engine_property_definitions().keys())
+# dev_params fields set from other settings: max_move from 'Shape May Move'.
+DERIVED_PARAMETERS = ("max_move",)
 PIN_PARAMETERS = tuple(pin_property_definitions().keys())
 EXTRA_PARAMETERS = tuple(extra_property_definitions().keys())
 # Copy order: the preset first (it sets the others), then everything else.
 SETTINGS = ("preset",) + ENGINE_PARAMETERS + PIN_PARAMETERS + tuple(
     n for n in EXTRA_PARAMETERS if n != "preset")
-assert set(ENGINE_PARAMETERS) == set(native.PARAM_NAMES), "a dev_params field has no property"
+assert set(ENGINE_PARAMETERS + DERIVED_PARAMETERS) == set(native.PARAM_NAMES), \
+    "a dev_params field has no property"
 
 
 def copy_settings(source, target, names=SETTINGS):
@@ -265,10 +280,11 @@ def set_quietly(owner, values):
 
 
 def engine_values(owner, size=None, average_edge=None):
-    """dict for native.run from an object holding the settings. size (the
-    diagonal) and average_edge convert 'Shape May Move' into the engine's
-    tolerance in average edge lengths; without them the tolerance is taken
-    as it is."""
+    """dict for native.run from an object holding the settings. 'Shape May
+    Move' is the engine's max_move (a share of the bounding box's diagonal);
+    with size (the diagonal) and average_edge it is also the tolerance in
+    average edge lengths. With 'Limit in Edge Lengths' the tolerance is taken
+    as it is and there is no size limit."""
     values = {}
     for name in ENGINE_PARAMETERS:
         value = getattr(owner, name)
@@ -282,6 +298,7 @@ def engine_values(owner, size=None, average_edge=None):
             values[name] = sentinel
     values["stop_relative_change"] = owner.stop_relative_change / 100.0
     values["developable_threshold"] = 10.0 ** owner.developable_threshold
+    values["max_move"] = 0.0 if owner.limit_in_edges else owner.move_limit / 100.0
     if not owner.limit_in_edges and size is not None and average_edge:
         values["tolerance"] = owner.move_limit / 100.0 * size / average_edge
     return values
@@ -335,6 +352,8 @@ class DEVELOPABLE_PG_result(PropertyGroup):
     time_decompose_ms: FloatProperty(name="t_D (ms)", precision=1)
     time_iterate_ms: FloatProperty(name="t_I (ms)", precision=1)
     iterations: IntProperty(name="Iterations")
+    polish_iterations: IntProperty(name="Polish steps",
+                                   description="Steps of the angle polish kept after the deformation")
     stop_reason: StringProperty(name="Stopped")
     max_move: FloatProperty(name="Largest move", precision=5,
                             description="Largest distance a vertex moved (world units)")

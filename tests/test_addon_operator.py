@@ -28,7 +28,9 @@ def test_noisy_mesh_gets_a_more_developable_shape_key(shared):
     assert r["moved"] > 0
     # measured independently from the shape key's coordinates
     assert r["mean_defect_after"] < 0.5 * r["mean_defect_before"], r
-    assert r["stats"]["e_after"] == pytest.approx(r["mean_defect_after"], rel=1e-3)
+    # Blender keeps float32 coordinates: a nearly flat result's defects differ
+    # from the engine's float64 ones by ~1e-7 rad
+    assert r["stats"]["e_after"] == pytest.approx(r["mean_defect_after"], rel=1e-3, abs=1e-6)
     assert r["stats"]["e_before"] == pytest.approx(r["mean_defect_before"], rel=1e-3)
     assert r["stats"]["iterations"] >= 1 and r["stats"]["time_ms"] > 0
     assert r["stats"]["change_percent"] < -50

@@ -160,16 +160,6 @@ class DampedSystem {
   bool analysed_ = false;
 };
 
-// Faces more than 90 degrees from their reference normal, or collapsed.
-std::vector<Eigen::Index> turned_over(const Normals& normals, const Normals& reference) {
-  std::vector<Eigen::Index> faces;
-  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
-    if (reference.row(f).squaredNorm() == 0.0) continue;
-    if (normals.row(f).dot(reference.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0) faces.push_back(f);
-  }
-  return faces;
-}
-
 }  // namespace
 
 PolishResult polish_defects(const Positions& start, const Positions& reference, const Normals& reference_normals,
@@ -292,7 +282,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
         // ring by ring.
         bool folded = false;
         for (int round = 0;; ++round) {
-          const std::vector<Eigen::Index> turned = turned_over(face_normals(trial, triangles), reference_normals);
+          const std::vector<Eigen::Index> turned = turned_over_faces(face_normals(trial, triangles), reference_normals);
           if (turned.empty()) break;
           if (round == kRevertRounds) {
             folded = true;

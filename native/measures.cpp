@@ -41,6 +41,15 @@ Eigen::VectorXd face_areas(const Positions& positions, const Triangles& triangle
   return areas;
 }
 
+std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference) {
+  std::vector<Eigen::Index> faces;
+  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
+    if (reference.row(f).squaredNorm() == 0.0) continue;
+    if (normals.row(f).dot(reference.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0) faces.push_back(f);
+  }
+  return faces;
+}
+
 double average_edge_length(const Positions& positions, const Triangles& triangles) {
   std::vector<std::pair<int, int>> edges;
   edges.reserve(static_cast<size_t>(triangles.rows()) * 3);

@@ -35,6 +35,12 @@ struct DefectStats {
 // Mean and max of |defect| over the vertices marked interior.
 DefectStats defect_stats(const Eigen::VectorXd& defects, const std::vector<bool>& interior);
 
+// Faces turned over: those whose unit normal is more than 90 degrees from
+// `reference`'s, or zero (collapsed) where the reference's is not; faces
+// whose reference normal is zero are not checked. Ascending face indices.
+//   normals, reference: one row per face (face_normals).
+std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference);
+
 // Interior vertices: used by some triangle and not on the boundary.
 std::vector<bool> interior_vertices(const Positions& positions, const Triangles& triangles);
 

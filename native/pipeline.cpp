@@ -159,17 +159,6 @@ double flat_share(const Eigen::VectorXd& defects, const std::vector<bool>& inter
   return count > 0 ? static_cast<double>(flat) / static_cast<double>(count) : 0.0;
 }
 
-// Faces whose normal is more than 90 degrees from the input's, or collapsed
-// (zero normal) where the input's was not: folds a user would see.
-Eigen::Index turned_over_faces(const Normals& normals, const Normals& input_normals) {
-  Eigen::Index count = 0;
-  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
-    if (input_normals.row(f).squaredNorm() == 0.0) continue;
-    if (normals.row(f).dot(input_normals.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0) ++count;
-  }
-  return count;
-}
-
 // 4 sqrt(3) area / (sum of the squared edge lengths): 1 for an equilateral
 // triangle, 0.87 for half a square, toward 0 for slivers.
 Eigen::VectorXd triangle_quality(const Positions& positions, const Triangles& triangles) {
@@ -190,17 +179,6 @@ Eigen::VectorXd triangle_quality(const Positions& positions, const Triangles& tr
 // full from half a square's quality 0.87 / 2 upward.
 Eigen::VectorXd sliver_trust(const Positions& positions, const Triangles& triangles) {
   return (2.0 * triangle_quality(positions, triangles)).cwiseMin(1.0);
-}
-
-// The faces that `turned_over_faces` counts, in ascending order.
-std::vector<Eigen::Index> turned_over_list(const Normals& normals, const Normals& input_normals) {
-  std::vector<Eigen::Index> faces;
-  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
-    if (input_normals.row(f).squaredNorm() == 0.0) continue;
-    if (normals.row(f).dot(input_normals.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0)
-      faces.push_back(f);
-  }
-  return faces;
 }
 
 // Per-face damping of the pull toward the targets where steps turned faces
@@ -570,13 +548,13 @@ class FoldSafeStep {
     int retries = 0;
     Positions proposal = propose(current, normals);
     Normals proposal_normals = face_normals(proposal, triangles_);
-    std::vector<Eigen::Index> turned = turned_over_list(proposal_normals, input_normals_);
+    std::vector<Eigen::Index> turned = turned_over_faces(proposal_normals, input_normals_);
     for (int retry = 0; retry < kFoldRetries && !turned.empty() && can_damp_; ++retry) {
       damping_.damp_around(turned);
       deformation_.set_normal_weights(trust_.cwiseProduct(damping_.factors()));
       proposal = propose(current, normals);
       proposal_normals = face_normals(proposal, triangles_);
-      turned = turned_over_list(proposal_normals, input_normals_);
+      turned = turned_over_faces(proposal_normals, input_normals_);
       ++retries;
     }
     for (int round = 0; !turned.empty(); ++round) {
@@ -588,7 +566,7 @@ class FoldSafeStep {
       for (Eigen::Index f : turned)
         for (int c = 0; c < 3; ++c) proposal.row(triangles_(f, c)) = current.row(triangles_(f, c));
       proposal_normals = face_normals(proposal, triangles_);
-      turned = turned_over_list(proposal_normals, input_normals_);
+      turned = turned_over_faces(proposal_normals, input_normals_);
       ++retries;
     }
     current = std::move(proposal);
@@ -648,7 +626,7 @@ class Judge {
     f.defects = angle_defects(positions, triangles_, interior_);
     f.defect = defect_stats(f.defects, interior_);
     f.flat = flat_share(f.defects, interior_);
-    f.turned = turned_over_faces(normals, input_normals_);
+    f.turned = static_cast<Eigen::Index>(turned_over_faces(normals, input_normals_).size());
     f.score = score_(f.defects);
     return f;
   }
@@ -941,6 +919,8 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     if (pinned[static_cast<size_t>(v)]) result.positions.row(v) = positions.row(v);
   for (Eigen::Index v = 0; v < n; ++v)
     stats.max_vertex_move = std::max(stats.max_vertex_move, (result.positions.row(v) - positions.row(v)).norm());
+  stats.faces_turned_over = static_cast<Eigen::Index>(
+      turned_over_faces(face_normals(result.positions, triangles), normals_before).size());
   stats.change_percent = 100.0 * (stats.mean_defect_after - stats.mean_defect_before) / stats.mean_defect_before;
   stats.time_total_ms = elapsed_ms(start_time);
   progress.report(1.0, "done");

@@ -87,5 +87,14 @@ TEST(Measures, DefectStatsOverInteriorOnly) {
   EXPECT_EQ(s.max_abs, 0.3);
 }
 
+TEST(Measures, TurnedOverFacesAreThoseMoreThan90DegreesOffOrCollapsed) {
+  Normals reference(4, 3), normals(4, 3);
+  reference << 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 0;
+  normals << 0, 0.6, 0.8, 0, 0, 0, 0, 0, 0, 0, 0, -1;  // 37 degrees; (below); collapsed; unchecked
+  normals.row(1) = Eigen::RowVector3d(0, 1, -0.01).normalized();   // just past 90 degrees
+  const std::vector<Eigen::Index> turned = turned_over_faces(normals, reference);
+  EXPECT_EQ(turned, (std::vector<Eigen::Index>{1, 2}));
+}
+
 }  // namespace
 }  // namespace developable

@@ -292,9 +292,11 @@ def draw_result(layout, context, obj):
     col.label(text="  (%s)" % length_text(context, rec.max_move))
     col.label(text="Faces turned over: %d" % rec.faces_turned,
               icon='ERROR' if rec.faces_turned else 'NONE')
-    col.label(text="Time: %s, %d iterations%s" % (
+    col.label(text="Time: %s, %d iterations" % (
         "%.0f ms" % rec.time_ms if rec.time_ms < 10000 else "%.1f s" % (rec.time_ms / 1000),
-        rec.iterations, " + %d polish" % rec.polish_iterations if rec.polish_iterations else ""))
+        rec.iterations))
+    if rec.polish_iterations:
+        col.label(text="Angle polish: %d steps" % rec.polish_iterations)
     col.label(text="Stopped: %s" % rec.stop_reason)
     col.label(text="Pieces: %d; pinned: %d" % (rec.patches, rec.pinned))
     if rec.engine_result:

@@ -249,7 +249,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     Eigen::VectorXd trial_defects;
     double trial_energy = 0.0;
     while (!kept) {
-      if (!factored || !fresh) {
+      if (!factored) {
         factored = factor();
         if (!factored) {
           damping *= kDampingUp;

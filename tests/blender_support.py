@@ -11,7 +11,14 @@ and the `bpy` wheels that scripts/setup_bpy.sh put in
 $DEVELOPABLE_BPY_CACHE (default ~/.cache/developable/bpy-<line>; the zip
 installed as an extension with bpy.ops.extensions.package_install_files into
 BLENDER_USER_RESOURCES, run through blender_scripts/bpy_main.py). The
-`any_blender_env` fixture runs a test on each of them."""
+`any_blender_env` fixture runs a test on each of them.
+
+The fixtures here are session-scoped and made visible to every test module by
+tests/conftest.py, which imports them: a test module must not import them
+itself (pytest would then keep one instance per module, and the zip would be
+rebuilt and installed again for each module). Under pytest-xdist each worker
+has its own session, so its own installs."""
+import fcntl
 import json
 import os
 import pathlib
@@ -99,12 +106,18 @@ def several(env, *specs, timeout=600):
     return dict(zip(specs, res))
 
 
-def build_addon_zip(build_dir):
-    subprocess.run(["cmake", "--build", str(build_dir), "--target", "addon_zip"],
-                   check=True, capture_output=True, text=True)
-    zips = sorted(pathlib.Path(build_dir, "dist").glob(MODULE + "-*.zip"))
-    assert len(zips) == 1, "expected one zip in build/dist, found %s" % zips
-    return zips[0]
+def build_addon_zip(build_dir, into):
+    """Builds the addon_zip target and copies the zip into the folder `into`;
+    returns the copy. The target rewrites build/dist on every build, so it is
+    built under a lock and each test session (each pytest-xdist worker) uses
+    its own copy, which another session's build cannot replace meanwhile."""
+    with open(pathlib.Path(build_dir) / "addon_zip.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        subprocess.run(["cmake", "--build", str(build_dir), "--target", "addon_zip"],
+                       check=True, capture_output=True, text=True)
+        zips = sorted(pathlib.Path(build_dir, "dist").glob(MODULE + "-*.zip"))
+        assert len(zips) == 1, "expected one zip in build/dist, found %s" % zips
+        return pathlib.Path(shutil.copy2(zips[0], pathlib.Path(into) / zips[0].name))
 
 
 def install_zip(zip_path, root):
@@ -155,10 +168,16 @@ def validate_manifest(zip_path, python):
     return proc.returncode, proc.stdout + proc.stderr
 
 
+@pytest.fixture(scope="session")
+def built_zip(build_dir, tmp_path_factory):
+    """The add-on zip of the build under test (this session's copy)."""
+    return build_addon_zip(build_dir, tmp_path_factory.mktemp("zip"))
+
+
 @pytest.fixture(scope="session", params=BLENDER_NAMES)
-def any_blender_env(request, build_dir, tmp_path_factory):
+def any_blender_env(request, built_zip, tmp_path_factory):
     """The env of one Blender under test with the zip installed (each in turn)."""
-    zip_path = build_addon_zip(build_dir)
+    zip_path = built_zip
     root = tmp_path_factory.mktemp("blender_%s" % request.param)
     if request.param == "3.4":
         env = install_zip(zip_path, root)
@@ -169,10 +188,10 @@ def any_blender_env(request, build_dir, tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
-def addon_zip(build_dir):
+def addon_zip(built_zip):
     if BLENDER is None:
         pytest.skip("blender is not installed")
-    return build_addon_zip(build_dir)
+    return built_zip
 
 
 @pytest.fixture(scope="session")

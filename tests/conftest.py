@@ -13,6 +13,11 @@ sys.path.insert(0, str(REPO))  # devkit
 
 from devkit import paths  # noqa: E402
 from devkit.binding import native  # noqa: E402
+# The add-on tests' session fixtures, defined once here for every module (a
+# module importing them itself would get its own instances: one zip build and
+# one set of Blender installs per module instead of per session).
+from blender_support import (addon_zip, any_blender_env, blender_env,  # noqa: E402,F401
+                             built_zip, installed_addon_dir)
 
 
 @pytest.fixture(scope="session")

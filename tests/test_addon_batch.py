@@ -2,8 +2,7 @@
 import json
 import subprocess
 
-from blender_support import (BLENDER, REPO, addon_zip, blender_env, results,  # noqa: F401
-                             run_blender)
+from blender_support import BLENDER, REPO, results, run_blender
 
 BATCH = REPO / "scripts" / "batch_developable.py"
 

@@ -4,7 +4,7 @@ import shutil
 
 import pytest
 
-from blender_support import addon_zip, blender_env, scenario  # noqa: F401
+from blender_support import scenario
 
 pytestmark = pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is missing")
 

@@ -8,8 +8,7 @@ import subprocess
 
 import pytest
 
-from blender_support import (MODULE, addon_zip, any_blender_env, blender_env,  # noqa: F401
-                             install_zip, installed_addon_dir, scenario, several)
+from blender_support import MODULE, install_zip, scenario, several
 
 # The background scenarios of this file, run in one start-up of each Blender.
 SHARED = ("run", "rerun", "cancel 0", "cancel 3", "pins", "bad")

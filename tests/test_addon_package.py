@@ -7,8 +7,7 @@ import zipfile
 
 import pytest
 
-from blender_support import (MODULE, REPO, addon_zip, any_blender_env, blender_env,  # noqa: F401
-                             installed_addon_dir, module_blenders, scenario, validate_manifest)
+from blender_support import MODULE, REPO, module_blenders, scenario, validate_manifest
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -8,8 +8,7 @@ import subprocess
 
 import pytest
 
-from blender_support import (BLENDER, BPY_MAIN, MODULE_PYTHON, SCRIPTS, addon_zip,  # noqa: F401
-                             any_blender_env, blender_env, results, run_blender)
+from blender_support import BLENDER, BPY_MAIN, MODULE_PYTHON, SCRIPTS, results, run_blender
 
 USER = SCRIPTS / "user_scenarios.py"
 

@@ -9,7 +9,7 @@ import shutil
 
 import pytest
 
-from blender_support import SCRIPTS, addon_zip, blender_env, results, run_blender  # noqa: F401
+from blender_support import SCRIPTS, results, run_blender
 
 HARDENING = r'''
 import hashlib, json, os, sys

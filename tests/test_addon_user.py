@@ -3,6 +3,7 @@ and the bpy wheels of scripts/setup_bpy.sh, 4.2 LTS and the newest): presets,
 warnings, one set of settings, shape keys, scale, several objects, shared
 meshes, errors that select what is wrong, the Gauss image, the headless
 one-liner. Scenarios: tests/blender_scripts/user_scenarios.py."""
+import re
 import shutil
 import subprocess
 
@@ -22,8 +23,38 @@ def user_scenario(env, name):
     return out[-1], proc
 
 
-def test_presets_set_their_values(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "presets")
+# The background scenarios whose tests read only their RESULT, run one after
+# another in one start-up of each Blender ("batch"; the start-up, not the
+# scenario, is most of a run's time on the bpy wheels). "worse" runs alone:
+# its test reads the warning in that run's own console output.
+BATCH = ("presets", "better", "menu_uses_panel", "shape_key", "scaled", "non_manifold",
+         "shared_triangle", "several", "gauss")
+
+
+@pytest.fixture(scope="module")
+def batch(any_blender_env):
+    proc = run_blender(["--python", str(USER), "--", "batch", *BATCH], any_blender_env,
+                       timeout=900)
+    out = results(proc)
+    assert len(out) == len(BATCH), "batch %s printed %d RESULTs\n%s\n%s" % (
+        BATCH, len(out), proc.stdout[-5000:], proc.stderr[-3000:])
+    # each scenario's stderr: what follows its "SCENARIO NAME" line
+    head, *parts = re.split(r"^SCENARIO (\w+)\n", proc.stderr, flags=re.M)
+    assert "traceback" not in head.lower(), head[-4000:]
+    assert parts[0::2] == list(BATCH), proc.stderr[-3000:]
+    return {name: (r, stderr) for name, r, stderr in zip(BATCH, out, parts[1::2])}
+
+
+def batched(batch, name):
+    """The RESULT of one scenario of the batch, checked as user_scenario checks a run."""
+    r, stderr = batch[name]
+    assert "exception" not in r, r["exception"]
+    assert "traceback" not in stderr.lower(), stderr[-4000:]
+    return r
+
+
+def test_presets_set_their_values(batch):
+    r = batched(batch, "presets")
     for key in ("GENERAL", "SHEET", "GARMENT", "OBJECT", "PAPER"):
         assert r[key]["preset"] == key
         assert r[key]["mismatch"] == {}, (key, r[key]["mismatch"])
@@ -47,8 +78,8 @@ def test_a_worse_result_is_a_warning_and_left_off(any_blender_env):
     assert "warning" in (proc.stdout + proc.stderr).lower()
 
 
-def test_a_better_result_is_reported_in_the_users_terms(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "better")
+def test_a_better_result_is_reported_in_the_users_terms(batch):
+    r = batched(batch, "better")
     rec = r["record"]
     assert r["result"] == ["FINISHED"], r["error"]
     assert rec["verdict"] == "IMPROVED", rec["message"]
@@ -59,8 +90,8 @@ def test_a_better_result_is_reported_in_the_users_terms(any_blender_env):
     assert r["key_value"] == 1.0
 
 
-def test_the_menu_entry_uses_the_panels_values(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "menu_uses_panel")
+def test_the_menu_entry_uses_the_panels_values(batch):
+    r = batched(batch, "menu_uses_panel")
     assert r["result"] == ["FINISHED"], r["error"]
     # the menu entry sets no value: the operator takes them all from the sidebar
     assert [[op, set(kw) - {"icon", "text"}] for op, kw in r["menu"]] == \
@@ -71,8 +102,8 @@ def test_the_menu_entry_uses_the_panels_values(any_blender_env):
     assert r["scene_after"] == [3, 0.5, "OFF"]
 
 
-def test_an_extra_shape_key_gives_the_figures_of_what_is_shown(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "shape_key")
+def test_an_extra_shape_key_gives_the_figures_of_what_is_shown(batch):
+    r = batched(batch, "shape_key")
     assert r["result"] == ["FINISHED"], r["error"]
     rec = r["record"]
     assert r["keys"] == ["Basis", "Bulge", "Developable"]
@@ -83,8 +114,8 @@ def test_an_extra_shape_key_gives_the_figures_of_what_is_shown(any_blender_env):
     assert r["shown_at_one"] < r["shown_before"]
 
 
-def test_a_scaled_object_gets_world_space_figures(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "scaled")
+def test_a_scaled_object_gets_world_space_figures(batch):
+    r = batched(batch, "scaled")
     assert r["result"] == ["FINISHED"], r["error"]
     rec = r["record"]
     assert abs(r["world_defect"] - r["local_defect"]) > 0.1 * r["local_defect"]
@@ -93,8 +124,8 @@ def test_a_scaled_object_gets_world_space_figures(any_blender_env):
     assert rec["world_space"]
 
 
-def test_a_non_manifold_mesh_selects_its_bad_edge_in_edit_mode(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "non_manifold")
+def test_a_non_manifold_mesh_selects_its_bad_edge_in_edit_mode(batch):
+    r = batched(batch, "non_manifold")
     assert r["result"] == ["CANCELLED"]
     assert "NON_MANIFOLD" in r["error"] and "Selected in Edit mode" in r["error"], r["error"]
     assert "near (" in r["error"]
@@ -103,22 +134,22 @@ def test_a_non_manifold_mesh_selects_its_bad_edge_in_edit_mode(any_blender_env):
     assert not r["keys"] and not r["has_result"]
 
 
-def test_a_triangle_on_a_quad_is_accepted_as_validate_does(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "shared_triangle")
+def test_a_triangle_on_a_quad_is_accepted_as_validate_does(batch):
+    r = batched(batch, "shared_triangle")
     assert not r["validate_changed"]
     assert r["result"] == ["FINISHED"], r["error"]
     assert "ignored" in r["message"]
 
 
-def test_several_objects_run_in_turn_and_shared_meshes_are_named(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "several")
+def test_several_objects_run_in_turn_and_shared_meshes_are_named(batch):
+    r = batched(batch, "several")
     assert r["result"] == ["FINISHED"], r["error"]
     assert r["has_result"] == {"a": True, "b": True, "c": True}
     assert "shared with c" in r["message_a"]
 
 
-def test_the_gauss_image_is_legible_and_follows_its_object(any_blender_env):
-    r, _ = user_scenario(any_blender_env, "gauss")
+def test_the_gauss_image_is_legible_and_follows_its_object(batch):
+    r = batched(batch, "gauss")
     assert r["result"] == [["FINISHED"], ["FINISHED"]], r["error"]
     assert r["found_after_rename"]
     assert r["gauss_collections"] == ["Gauss Image: renamed"]

@@ -2,12 +2,19 @@
 Blender (Debian's 3.4, or a bpy module through bpy_main.py):
 
   blender -b --factory-startup --python user_scenarios.py -- NAME
+  blender -b --factory-startup --python user_scenarios.py -- batch NAME NAME ...
 
-Each prints RESULT {json}. Meshes are generated here with numpy (seeded), so
-nothing depends on the add-on's own helpers."""
+Each prints RESULT {json}. "batch" runs background scenarios one after
+another in one Blender start-up, each in a fresh factory-startup file (the
+scene's settings back to their defaults), with a line "SCENARIO NAME" on
+stderr before each so that a test can read each one's messages apart; an
+exception in one is its RESULT ({"exception": traceback}) and the next one
+runs. Meshes are generated here with numpy (seeded), so nothing depends on
+the add-on's own helpers."""
 import importlib
 import json
 import sys
+import traceback
 
 import addon_utils
 import bpy
@@ -371,4 +378,13 @@ def s_redo_reaches_the_sidebar():
 SCENARIOS = {name[2:]: fn for name, fn in globals().items() if name.startswith("s_")}
 
 if __name__ == "__main__":
-    SCENARIOS[ARGS[0]]()
+    if ARGS[0] == "batch":
+        for name in ARGS[1:]:
+            bpy.ops.wm.read_homefile(use_factory_startup=True)
+            print("SCENARIO " + name, file=sys.stderr, flush=True)
+            try:
+                SCENARIOS[name]()
+            except Exception:
+                emit({"exception": traceback.format_exc()})
+    else:
+        SCENARIOS[ARGS[0]]()

@@ -9,6 +9,7 @@ BUILD=${DEVELOPABLE_BUILD_DIR:-$REPO/build}
 
 # Debian packages the build, the add-on and the tests need.
 packages=(cmake g++ make libeigen3-dev libopenmesh-dev libgtest-dev python3-pytest python3-numpy python3-scipy blender xvfb xauth zip
+          python3-pytest-xdist      # scripts/test.sh runs the tests on every core
           clang libclang-rt-14-dev  # clang: the fuzz run and fuzz_replay (tests/test_hardening*.py)
           librsvg2-bin              # rsvg-convert: the pattern SVGs rasterised (tests/test_pattern*.py, docs)
           python3-venv)             # the test Blenders' virtual environments (setup_bpy.sh)

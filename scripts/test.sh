@@ -7,4 +7,6 @@ source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
 cd "$REPO"
 export DEVELOPABLE_BUILD_DIR="$BUILD"
 # Debian's interpreter: the one with python3-pytest and python3-numpy.
-exec /usr/bin/python3 -m pytest -q -p no:cacheprovider tests "$@"
+# pytest-xdist: one worker per core, tests sharing a module's fixture kept on
+# one worker (tests/conftest.py); `-n 0` among the arguments runs them in turn.
+exec /usr/bin/python3 -m pytest -q -p no:cacheprovider -n "$(nproc)" --dist loadgroup tests "$@"

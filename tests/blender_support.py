@@ -65,8 +65,13 @@ def run_blender(args, env, timeout=300, xvfb=False, check=True):
             pytest.skip("Blender as a Python module has no window")
         cmd = [env[MODULE_PYTHON], str(BPY_MAIN)] + [str(a) for a in args]
     elif xvfb:
-        cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", BLENDER, "--factory-startup",
-               "--python-exit-code", "1"] + list(args)
+        # -a takes the first display number from -n on without a lock file, which
+        # two xvfb-runs started at once can both take: each pytest-xdist worker
+        # starts its search elsewhere (gw0 at xvfb-run's usual 99, gw1 at 149 ...)
+        worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")
+        first = 99 + 50 * int(worker[2:]) if worker[2:].isdigit() else 99
+        cmd = ["xvfb-run", "-n", str(first), "-a", "-s", "-screen 0 1280x800x24", BLENDER,
+               "--factory-startup", "--python-exit-code", "1"] + list(args)
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
     if check and proc.returncode != 0:
         raise AssertionError("blender failed (%d)\ncmd: %s\nstdout:\n%s\nstderr:\n%s"

@@ -55,3 +55,49 @@ def meshes_dir():
     if not paths.MESHES.is_dir():
         pytest.skip("../shared/meshes is not beside the checkout")
     return paths.MESHES
+
+
+# -- running in parallel --------------------------------------------------------------
+# scripts/test.sh runs pytest-xdist with one worker per core and --dist loadgroup.
+# A test that uses a module-scoped fixture defined beside it (a shared Blender
+# start-up, the fuzz run beside the ASan run, a pattern unfolded once) is put
+# in one xdist_group with the module's other users of such fixtures, per
+# Blender for the add-on modules whose fixture is per Blender; the other tests
+# are handed out one at a time. The longest units go first (FIRST), so that
+# no worker is left alone with one of them at the end.
+FIRST = ("test_hardening_sanitizers.py",  # the ASan run of the engine suites, 60 s of fuzzing beside
+         "test_hardening.py::test_two_million_faces_work_or_are_refused_cleanly",
+         "test_pattern.py",               # rasterising the human figure's sheets
+         "test_families.py")
+
+
+def _group(item):
+    """The xdist group of a test, or None (see above)."""
+    module = item.nodeid.split("::")[0]
+    shared = False
+    for name in item.fixturenames:
+        for fixturedef in item._fixtureinfo.name2fixturedefs.get(name, ()):
+            if fixturedef.scope == "module" and fixturedef.baseid.split("::")[0] == module:
+                shared = True
+    if not shared:
+        return None
+    callspec = getattr(item, "callspec", None)
+    blender = callspec.params.get("any_blender_env") if callspec else None
+    return module + ("[%s]" % blender if blender else "")
+
+
+def _rank(item):
+    path = item.nodeid.split("/")[-1]
+    for i, first in enumerate(FIRST):
+        if path == first or path.startswith(first + "::") or path.startswith(first + "["):
+            return i
+    return len(FIRST)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        group = _group(item)
+        if group:
+            item.add_marker(pytest.mark.xdist_group(group))
+    items.sort(key=_rank)  # stable: the others keep pytest's order

@@ -10,6 +10,7 @@ BUILD=${DEVELOPABLE_BUILD_DIR:-$REPO/build}
 # Debian packages the build, the add-on and the tests need.
 packages=(cmake g++ make libeigen3-dev libopenmesh-dev libgtest-dev python3-pytest python3-numpy python3-scipy blender xvfb xauth zip
           python3-pytest-xdist      # scripts/test.sh runs the tests on every core
+          ccache                    # compiled objects kept between builds and clones (below)
           clang libclang-rt-14-dev  # clang: the fuzz run and fuzz_replay (tests/test_hardening*.py)
           librsvg2-bin              # rsvg-convert: the pattern SVGs rasterised (tests/test_pattern*.py, docs)
           python3-venv)             # the test Blenders' virtual environments (setup_bpy.sh)
@@ -25,7 +26,17 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 fi
 
-cmake -S "$REPO" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+# ccache keeps what the compiler made in the developers' cache folder (beside
+# the cached sanitizer and fuzz builds, devkit/builds.py): a fresh clone
+# compiles only the sources no earlier build on this machine compiled as they
+# are. Paths under the clone are hashed relative to it, so clones elsewhere hit.
+launcher=()
+if command -v ccache >/dev/null; then
+  export CCACHE_DIR=${CCACHE_DIR:-${DEVELOPABLE_CACHE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/developable}/ccache}
+  export CCACHE_BASEDIR=$REPO CCACHE_MAXSIZE=${CCACHE_MAXSIZE:-2G}
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+cmake -S "$REPO" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
 cmake --build "$BUILD" --parallel "$(nproc)" >&2
 
 # The test-only Blenders (bpy wheels from PyPI, 4.2 LTS and the newest line) in

@@ -18,7 +18,10 @@ def load_native(library_path):
 
 def read_png(path):
     """(height, width, channels) uint8 of an 8-bit, non-interlaced PNG (what
-    rsvg-convert writes)."""
+    rsvg-convert writes). Rows filtered None, Up or Sub are undone with numpy
+    (Sub is a running sum modulo 256 per channel); Average and Paeth depend on
+    the pixel to the left as already decoded, so those rows go byte by byte in
+    plain Python (Python ints: far quicker than indexing numpy arrays)."""
     data = pathlib.Path(path).read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
     pos, idat, header = 8, b"", None
@@ -35,33 +38,41 @@ def read_png(path):
     channels = {0: 1, 2: 3, 4: 2, 6: 4}[colour]
     raw = zlib.decompress(idat)
     stride = width * channels
-    out = np.zeros((height, stride), dtype=np.int32)
-    prev = np.zeros(stride, dtype=np.int32)
+    rows = np.frombuffer(raw, dtype=np.uint8).reshape(height, stride + 1)
+    out = np.zeros((height, stride), dtype=np.uint8)
+    prev = np.zeros(stride, dtype=np.uint8)
     for y in range(height):
-        kind = raw[y * (stride + 1)]
-        line = np.frombuffer(raw, dtype=np.uint8, count=stride, offset=y * (stride + 1) + 1).astype(np.int32)
+        kind, line = rows[y, 0], rows[y, 1:]
         if kind == 0:
             cur = line
+        elif kind == 1:
+            cur = np.cumsum(line.reshape(width, channels), axis=0, dtype=np.uint8).reshape(-1)
         elif kind == 2:
-            cur = (line + prev) & 255
-        else:  # 1 sub, 3 average, 4 Paeth depend on the left pixel: row by row
-            cur = np.zeros(stride, dtype=np.int32)
-            for x in range(stride):
-                left = cur[x - channels] if x >= channels else 0
-                up = prev[x]
-                if kind == 1:
-                    cur[x] = (line[x] + left) & 255
-                elif kind == 3:
-                    cur[x] = (line[x] + (left + up) // 2) & 255
-                else:
-                    up_left = prev[x - channels] if x >= channels else 0
-                    p = left + up - up_left
-                    pa, pb, pc = abs(p - left), abs(p - up), abs(p - up_left)
-                    pred = left if pa <= pb and pa <= pc else (up if pb <= pc else up_left)
-                    cur[x] = (line[x] + pred) & 255
+            cur = line + prev  # uint8: modulo 256
+        elif kind in (3, 4):
+            cur = _unfilter_row(kind, line.tolist(), prev.tolist(), channels)
+        else:
+            raise AssertionError("bad PNG filter type %d" % kind)
         out[y] = cur
-        prev = cur
-    return out.reshape(height, width, channels).astype(np.uint8)
+        prev = out[y]
+    return out.reshape(height, width, channels)
+
+
+def _unfilter_row(kind, line, prev, channels):
+    """One row of filter type 3 (Average) or 4 (Paeth), on lists of ints."""
+    cur = [0] * len(line)
+    for x, value in enumerate(line):
+        left = cur[x - channels] if x >= channels else 0
+        up = prev[x]
+        if kind == 3:
+            cur[x] = (value + ((left + up) >> 1)) & 255
+        else:
+            up_left = prev[x - channels] if x >= channels else 0
+            p = left + up - up_left
+            pa, pb, pc = abs(p - left), abs(p - up), abs(p - up_left)
+            pred = left if pa <= pb and pa <= pc else (up if pb <= pc else up_left)
+            cur[x] = (value + pred) & 255
+    return np.array(cur, dtype=np.uint8)
 
 
 def signed_areas(corners):

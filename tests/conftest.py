@@ -60,15 +60,18 @@ def meshes_dir():
 # -- running in parallel --------------------------------------------------------------
 # scripts/test.sh runs pytest-xdist with one worker per core and --dist loadgroup.
 # A test that uses a module-scoped fixture defined beside it (a shared Blender
-# start-up, the fuzz run beside the ASan run, a pattern unfolded once) is put
-# in one xdist_group with the module's other users of such fixtures, per
-# Blender for the add-on modules whose fixture is per Blender; the other tests
-# are handed out one at a time. The longest units go first (FIRST), so that
-# no worker is left alone with one of them at the end.
-FIRST = ("test_hardening_sanitizers.py",  # the ASan run of the engine suites, 60 s of fuzzing beside
+# start-up, a pattern unfolded once) is put in one xdist_group with the
+# module's other users of such fixtures, per Blender for the add-on modules
+# whose fixture is per Blender; the other tests are handed out one at a time.
+# The longest units go first (FIRST: the ASan run of test_hardening.py alone
+# is about a third of the suite's CPU time), so that no worker is left alone
+# with one of them at the end.
+FIRST = ("test_hardening_sanitizers.py::test_engine_suite_under_asan_and_ubsan[tests/test_hardening.py]",
+         "test_hardening_sanitizers.py::test_fuzz_for_a_minute",  # 60 s on one core
          "test_hardening.py::test_two_million_faces_work_or_are_refused_cleanly",
-         "test_pattern.py",               # rasterising the human figure's sheets
-         "test_families.py")
+         "test_hardening_sanitizers.py",  # the other engine files under ASan
+         "test_families.py",
+         "test_pattern.py")              # rasterising the human figure's sheets
 
 
 def _group(item):
@@ -87,9 +90,11 @@ def _group(item):
 
 
 def _rank(item):
-    path = item.nodeid.split("/")[-1]
+    """Where the test's unit is in FIRST (a module, a test or one of its parameters)."""
+    names = (item.path.name, "%s::%s" % (item.path.name, item.originalname),
+             "%s::%s" % (item.path.name, item.name))
     for i, first in enumerate(FIRST):
-        if path == first or path.startswith(first + "::") or path.startswith(first + "["):
+        if first in names:
             return i
     return len(FIRST)
 

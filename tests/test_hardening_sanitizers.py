@@ -5,8 +5,10 @@ run on a machine builds them, later runs and fresh clones of the same sources
 reuse them, a change to native/ or CMakeLists.txt builds them anew.
 
   build-asan  gcc, -DDEVELOPABLE_SANITIZE=ON: the engine test files run again
-              in a subprocess against it (ctypes needs libasan preloaded into
-              the uninstrumented Python); any ASan or UBSan report fails;
+              against it, each file in its own subprocess (ctypes needs
+              libasan preloaded into the uninstrumented Python; one test per
+              file, so that pytest-xdist spreads them over the cores); any
+              ASan or UBSan report fails;
   build-fuzz  clang, -DDEVELOPABLE_FUZZ=ON: fuzz_c_api for FUZZ_SECONDS
               (default 60) starting from tests/fuzz_corpus/.
 
@@ -36,7 +38,7 @@ pytestmark = pytest.mark.skipif(os.environ.get("DEVELOPABLE_SKIP_SANITIZERS") ==
 
 def cached(make, variable):
     """The build folder: $variable when set, else the cached build (held, so
-    that no other run prunes it, until the module's tests are done)."""
+    that no other run prunes it, until the test session ends)."""
     if os.environ.get(variable):
         yield pathlib.Path(os.environ[variable])
         return
@@ -47,7 +49,9 @@ def cached(make, variable):
         pytest.fail(str(error))
 
 
-@pytest.fixture(scope="module")
+# Session-scoped: under pytest-xdist each worker finds (or waits for, devkit/builds.py
+# locks) the same cached build, and the tests below are not tied to one worker.
+@pytest.fixture(scope="session")
 def asan_build():
     if shutil.which("gcc") is None or None in (builds.gcc_runtime("libasan.so"),
                                                 builds.gcc_runtime("libstdc++.so")):
@@ -55,7 +59,7 @@ def asan_build():
     yield from cached(builds.asan, "DEVELOPABLE_ASAN_BUILD_DIR")
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def fuzz_build():
     if builds.clang_compiler() is None:
         pytest.fail("clang++ is needed for the fuzz run (scripts/setup.sh installs it)")
@@ -81,35 +85,12 @@ def sanitizer_env(asan_build):
     return env
 
 
-@pytest.fixture(scope="module")
-def fuzz_run(fuzz_build, tmp_path_factory):
-    """fuzz_c_api for FUZZ_SECONDS (60) from tests/fuzz_corpus/, started in
-    the background so that it runs beside the ASan suite (one core each);
-    new inputs go to a temporary folder, not into the repository."""
-    seconds = int(os.environ.get("FUZZ_SECONDS", "60"))
-    folder = tmp_path_factory.mktemp("fuzz")
-    (folder / "corpus").mkdir()
-    env = dict(os.environ, UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1",
-               ASAN_OPTIONS="detect_leaks=1")
-    log = open(folder / "fuzz.log", "w+")
-    proc = subprocess.Popen([str(fuzz_build / "bin" / "fuzz_c_api"), "-max_total_time=%d" % seconds,
-                             "-timeout=20", "-rss_limit_mb=2048", "-max_len=4096",
-                             "-artifact_prefix=%s/" % folder, str(folder / "corpus"),
-                             str(REPO / "tests" / "fuzz_corpus")],
-                            env=env, stdout=subprocess.DEVNULL, stderr=log)
-    yield proc, folder, log, seconds
-    if proc.poll() is None:
-        proc.kill()
-        proc.wait()
-    log.close()
-
-
-def test_engine_suite_under_asan_and_ubsan(asan_build, fuzz_run):
-    """tests/test_engine.py, test_bad_input.py, test_tool.py and
-    test_hardening.py against the ASan build: every test passes, no report
-    (the fuzz run goes on meanwhile)."""
-    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-                          *ENGINE_TESTS], cwd=REPO, env=sanitizer_env(asan_build),
+@pytest.mark.parametrize("tests", ENGINE_TESTS)
+def test_engine_suite_under_asan_and_ubsan(asan_build, tests):
+    """One of tests/test_engine.py, test_bad_input.py, test_tool.py and
+    test_hardening.py against the ASan build: every test passes, no report."""
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", tests],
+                         cwd=REPO, env=sanitizer_env(asan_build),
                          capture_output=True, text=True, timeout=3600)
     output = run.stdout + run.stderr
     reports = [line for line in output.splitlines() if any(m in line for m in REPORT_MARKS)]
@@ -123,14 +104,23 @@ def test_the_sanitized_library_really_is_sanitized(asan_build):
     assert "libasan" in ldd and "libubsan" in ldd, ldd
 
 
-def test_fuzz_for_a_minute(fuzz_run, fuzz_build):
-    """The fuzz run started above ends cleanly: no crash, leak, timeout or
-    out-of-memory input, libFuzzer's "Done"."""
-    proc, folder, log, seconds = fuzz_run
-    proc.wait(timeout=seconds + 600)
-    log.seek(0)
-    stderr = log.read()
-    crashes = [p.name for p in folder.iterdir() if p.name.startswith(("crash-", "leak-", "oom-", "timeout-"))]
+def test_fuzz_for_a_minute(fuzz_build, tmp_path):
+    """fuzz_c_api for FUZZ_SECONDS (60) from tests/fuzz_corpus/ ends cleanly:
+    no crash, leak, timeout or out-of-memory input, libFuzzer's "Done". New
+    inputs go to a temporary folder, not into the repository."""
+    seconds = int(os.environ.get("FUZZ_SECONDS", "60"))
+    (tmp_path / "corpus").mkdir()
+    env = dict(os.environ, UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1",
+               ASAN_OPTIONS="detect_leaks=1")
+    with open(tmp_path / "fuzz.log", "w+") as log:
+        proc = subprocess.run([str(fuzz_build / "bin" / "fuzz_c_api"), "-max_total_time=%d" % seconds,
+                               "-timeout=20", "-rss_limit_mb=2048", "-max_len=4096",
+                               "-artifact_prefix=%s/" % tmp_path, str(tmp_path / "corpus"),
+                               str(REPO / "tests" / "fuzz_corpus")],
+                              env=env, stdout=subprocess.DEVNULL, stderr=log, timeout=seconds + 600)
+        log.seek(0)
+        stderr = log.read()
+    crashes = [p.name for p in tmp_path.iterdir() if p.name.startswith(("crash-", "leak-", "oom-", "timeout-"))]
     assert proc.returncode == 0 and not crashes, (
         "the fuzzer found a failing input (%s); replay it with %s/bin/fuzz_c_api FILE and "
         "add it to tests/fuzz_corpus once fixed\n%s" % (crashes, fuzz_build, stderr[-6000:]))

@@ -30,9 +30,7 @@ constexpr int kHalvings = 3;
 // The stall window (kept steps) and the flat threshold of the stall rule.
 constexpr size_t kStallWindow = 10;
 constexpr double kFlatDefect = 1e-3;
-// The damped system: rows up to which it is factored, and the conjugate
-// gradients' limits beyond (DampedSystem).
-constexpr Eigen::Index kDirectRows = 20000;
+// The conjugate gradients' limits (DampedSystem, above options.direct_rows).
 constexpr int kIterativeSteps = 100;
 constexpr double kIterativeTolerance = 1e-8;
 // Rounds of putting back the corners of faces a step turns over before the
@@ -122,7 +120,7 @@ class DefectJacobian {
   RowMatrix jacobian_;
 };
 
-// The damped system (J J^T + damping) y = K. Up to kDirectRows rows, a
+// The damped system (J J^T + damping) y = K. Up to `direct_rows` rows, a
 // sparse Cholesky factorisation (exact steps, few iterations); above, J J^T
 // couples each vertex to its two rings and the factor fills in (50k rows:
 // 10M entries, 1.2 s a factorisation), so conjugate gradients with a
@@ -131,10 +129,13 @@ class DefectJacobian {
 // not like any other.
 class DampedSystem {
  public:
+  explicit DampedSystem(Eigen::Index direct_rows) : direct_rows_(direct_rows) {}
+
+
   // Factors (or prepares) `matrix`, kept by the system; false on failure.
   bool compute(Eigen::SparseMatrix<double> matrix) {
     matrix_ = std::move(matrix);
-    if (matrix_.rows() <= kDirectRows) {
+    if (matrix_.rows() <= direct_rows_) {
       if (!analysed_) {
         direct_.analyzePattern(matrix_);
         analysed_ = true;
@@ -149,11 +150,12 @@ class DampedSystem {
   }
 
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
-    if (matrix_.rows() <= kDirectRows) return direct_.solve(rhs);
+    if (matrix_.rows() <= direct_rows_) return direct_.solve(rhs);
     return iterative_.solve(rhs);
   }
 
  private:
+  Eigen::Index direct_rows_;
   Eigen::SparseMatrix<double> matrix_;  // the iterative solver reads it at every solve
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> direct_;
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> iterative_;
@@ -225,7 +227,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   // keep lowering sum K^2 well (the vertices move little, so J changes
   // little); it is refactored at the current iterate when a step gains
   // little, and with more damping when even a fresh factor's steps fail.
-  DampedSystem system;
+  DampedSystem system(options.direct_rows);
   bool fresh = false;
   double damping = kInitialDamping;
   auto factor = [&]() {

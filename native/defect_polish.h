@@ -44,6 +44,9 @@ struct PolishOptions {
   // default a tenth of the flat threshold 1e-3.
   double active_defect = 1e-4;
   double limit = 0.0;           // largest distance from `reference`, caller's units; <= 0: none
+  // Rows of the damped system up to which it is factored (sparse Cholesky);
+  // above, conjugate gradients (the factor of a larger one fills in).
+  int direct_rows = 20000;
 };
 
 struct PolishResult {

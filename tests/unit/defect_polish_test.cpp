@@ -43,6 +43,25 @@ TEST(DefectPolish, DrivesTheDefectsOfANoisyDevelopableToZero) {
   for (Eigen::Index f = 0; f < after.rows(); ++f) EXPECT_GT(after.row(f).dot(normals.row(f)), 0.0);
 }
 
+// Large systems go to conjugate gradients (direct_rows); their inexact
+// steps reach the same flat, fold-free result here.
+TEST(DefectPolish, ConjugateGradientsAboveTheDirectRowsAgree) {
+  const auto m = noisy_cylinder(0.01, 2);
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  PolishOptions iterative;
+  iterative.direct_rows = 10;  // far below the ~250 constrained vertices
+  const PolishResult direct =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, PolishOptions{}, Progress{});
+  const PolishResult r =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, iterative, Progress{});
+  EXPECT_GT(r.iterations, 0);
+  EXPECT_NE(r.positions, direct.positions);  // the other solver really ran
+  EXPECT_LT(largest_defect(r.positions, m.triangles, interior), 1e-6);
+  EXPECT_LT((r.positions - direct.positions).rowwise().norm().maxCoeff(), 0.01);
+  EXPECT_TRUE(turned_over_faces(face_normals(r.positions, m.triangles), normals).empty());
+}
+
 TEST(DefectPolish, KeepsPinsAndTheLimit) {
   const auto m = noisy_cylinder(0.01, 2);
   const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);

@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 4  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 5  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -125,6 +125,8 @@ class dev_stats(ctypes.Structure):
         # ABI 4
         ("polish_iterations", ctypes.c_int32),
         ("time_polish_ms", ctypes.c_double),
+        # ABI 5
+        ("polished_from_input", ctypes.c_int32),
     ]
 
 

@@ -354,6 +354,10 @@ class DEVELOPABLE_PG_result(PropertyGroup):
     iterations: IntProperty(name="Iterations")
     polish_iterations: IntProperty(name="Polish steps",
                                    description="Steps of the angle polish kept after the deformation")
+    polished_from_input: BoolProperty(
+        name="Polished the input",
+        description="The result is the angle polish of the input itself: it moved the mesh less than "
+                    "the deformation did, and is as flat")
     stop_reason: StringProperty(name="Stopped")
     max_move: FloatProperty(name="Largest move", precision=5,
                             description="Largest distance a vertex moved (world units)")

@@ -148,6 +148,7 @@ def store_stats(obj, result, scale, pinned_count, figures, verdict, message, eng
     rec.time_iterate_ms = s["time_iterate_ms"]
     rec.iterations = s["iterations"]
     rec.polish_iterations = s.get("polish_iterations", 0)
+    rec.polished_from_input = bool(s.get("polished_from_input", 0))
     rec.stop_reason = native.STOP_REASONS.get(s["stop_reason"], str(s["stop_reason"]))
     rec.max_move = s["max_vertex_move"]
     rec.average_edge = s["average_edge_length"]

@@ -278,6 +278,7 @@ int32_t dev_result_stats(const dev_result* result, dev_stats* stats) {
   stats->flat_share_after = s.flat_share_after;
   stats->polish_iterations = s.polish_iterations;
   stats->time_polish_ms = s.time_polish_ms;
+  stats->polished_from_input = s.polished_from_input ? 1 : 0;
   const size_t length = std::min(s.result_message.size(), sizeof stats->result_message - 1);
   std::memcpy(stats->result_message, s.result_message.data(), length);
   stats->result_message[length] = '\0';

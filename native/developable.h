@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 4
+#define DEV_ABI_VERSION 5
 
 /* Status codes (values are stable). */
 enum {
@@ -155,6 +155,9 @@ typedef struct dev_stats {
   /* ABI 4: */
   int32_t polish_iterations;    /* steps of the angle-defect polish kept (0: none, or it was off) */
   double time_polish_ms;        /* the polish's share of t_T */
+  /* ABI 5: */
+  int32_t polished_from_input;  /* 1: the result is the polish of the input itself, which moved the
+                                   mesh less than the deformation and its polish, as flat */
 } dev_stats;
 
 /* Opaque result of one run; free with dev_result_free. */

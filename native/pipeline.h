@@ -113,8 +113,11 @@ struct PipelineStats {
   double max_defect_before = 0.0, max_defect_after = 0.0;
   double change_percent = 0.0;                            // dE^mean, %
   double max_vertex_move = 0.0;                           // caller's units
-  int fold_retries = 0;
-  int polish_iterations = 0;  // steps of the angle-defect polish kept (defect_polish.h)  // extra solves and shortenings of steps that would have folded
+  int fold_retries = 0;  // extra solves and shortenings of steps that would have folded
+  int polish_iterations = 0;  // steps of the angle-defect polish kept (defect_polish.h)
+  // The result is the polish of the input itself, which moved the mesh less
+  // than the deformation and its polish (run_pipeline, "least motion").
+  bool polished_from_input = false;
   double time_decompose_ms = 0.0, time_iterate_ms = 0.0, time_total_ms = 0.0;  // t_D, t_I, t_T
   double time_polish_ms = 0.0;
   ResultKind result = ResultKind::unchanged;

@@ -16,10 +16,10 @@ result says unchanged. Then the issue's bounds where the engine meets them
   - curved folds: at least 95 % flat and the mean down at least 90 %;
   - irregular triangulations (jittered Delaunay) but of random-curve tangent
     developables and generalized cones: the mean down at least 95 %.
-The Hausdorff ratio of the other families is above the issue's 1.5 (tangent
-developables and wavy generalized cylinders and cones: the deformation moves
-their shape a few times the noise); each family's median is held to today's
-with room, so that a change that moves the shape more fails here.
+The Hausdorff ratio of the other families is above the issue's 1.5 on some
+seeds (tangent developables, wavy generalized cylinders and cones, bent
+sheets: up to a few times the noise); each family's median is held to
+today's with room, so that a change that moves the shape more fails here.
 """
 import os
 import sys
@@ -41,10 +41,10 @@ NOT_ON_IRREGULAR = ("tangent_random", "generalized_cone")
 # family -> the largest median Hausdorff ratio accepted: today's median
 # (docs/families.md) times 1.5, at least 1.5.
 MEDIAN_RATIO = {
-    "cylinder_patch": 1.7, "cylinder_band": 1.5, "cone_patch": 2.0, "cone_band": 1.5,
-    "tangent_helix": 2.6, "tangent_cubic": 2.6, "tangent_random": 7.0,
-    "generalized_cylinder": 2.5, "generalized_cone": 8.0, "bent_sheet": 3.5,
-    "curved_fold": 2.7, "plane": 1.5,
+    "cylinder_patch": 1.8, "cylinder_band": 1.5, "cone_patch": 1.9, "cone_band": 1.5,
+    "tangent_helix": 1.9, "tangent_cubic": 2.5, "tangent_random": 2.7,
+    "generalized_cylinder": 2.3, "generalized_cone": 2.9, "bent_sheet": 2.8,
+    "curved_fold": 2.4, "plane": 1.5,
 }
 
 

@@ -226,6 +226,7 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
        << ", \"time_total_ms\": " << json_number(s.time_total_ms)
        << ", \"time_polish_ms\": " << json_number(s.time_polish_ms)
        << ", \"polish_iterations\": " << s.polish_iterations
+       << ", \"polished_from_input\": " << (s.polished_from_input ? "true" : "false")
        << ", \"result\": \"" << (s.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved") << "\""
        << ", \"faces_turned_over\": " << s.faces_turned_over
        << ", \"flat_share_before\": " << json_number(s.flat_share_before)
@@ -410,13 +411,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "#v %lld  #f %lld  AE %.4g  patches %lld\n"
                  "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
-                 "iterations %d (%s), polish %d  largest move %.4g (%.3g AE)\n"
+                 "iterations %d (%s), polish %d%s  largest move %.4g (%.3g AE)\n"
                  "t_D %.2f ms  t_I %.2f ms  polish %.2f ms  t_T %.2f ms\n",
                  static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces),
                  stats.average_edge_length, static_cast<long long>(stats.patches),
                  stats.mean_defect_before, stats.mean_defect_after, stats.change_percent,
                  stats.max_defect_before, stats.max_defect_after, stats.iterations,
-                 stop_reason_name(stats.stop_reason), stats.polish_iterations, stats.max_vertex_move,
+                 stop_reason_name(stats.stop_reason), stats.polish_iterations,
+                 stats.polished_from_input ? " (of the input)" : "", stats.max_vertex_move,
                  stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
                  stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
     std::fprintf(stderr, "flat %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",

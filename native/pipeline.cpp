@@ -57,12 +57,16 @@ constexpr std::ptrdiff_t kPolishDirectVertices = 20000;
 
 // The polish from the input (the second candidate, see run_pipeline) is
 // returned for moving the mesh less only if it is as developable as the
-// polished iterate: its flat share at most this much lower, its mean |defect|
-// at most this share of the input's mean higher (else fish_low_resolution
-// would trade -10.5 % for +1.7 %), and its largest |defect| no larger than
-// both the polished iterate's and the input's.
+// polished iterate: its flat share at most kLeastMoveFlatSlack lower, its
+// mean |defect| at most kLeastMoveDefectSlack of the input's mean higher
+// (else fish_low_resolution would trade -10.5 % for +1.7 %), and its largest
+// |defect| no larger than both the polished iterate's and the input's.
 constexpr double kLeastMoveFlatSlack = 0.01;
 constexpr double kLeastMoveDefectSlack = 0.01;
+// Meshes of up to this many scored vertices have the second candidate: the
+// polish of a raw noisy input refactors its system at each of some 30 steps
+// (a 10k-face noisy grid: +1.2 s), which larger meshes do not pay.
+constexpr std::ptrdiff_t kLeastMoveVertices = 3000;
 
 // How much a closed mesh's mean |defect| may grow (fraction) in exchange for
 // flat patches (see run_pipeline).
@@ -896,8 +900,8 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   stats.time_iterate_ms = elapsed_ms(iterate_start);
 
   // Step "polish" (stage 8): the angle defects driven to zero from the best
-  // iterate (or the input), kept only if eligible and better. On meshes whose
-  // polish is factored, a second candidate is polished from the input itself,
+  // iterate (or the input), kept only if eligible and better. On meshes of up
+  // to kLeastMoveVertices, a second candidate is polished from the input itself,
   // and of two developable results the one that moved the mesh less is
   // returned: where the fitted curves flatten a wavy shape, the deformation
   // moves it far more than the noise, the polish alone only about the noise
@@ -905,11 +909,11 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   if (polish) {
     PolishOptions polish_options;
     polish_options.limit = limit;
-    const bool small = std::count(scored.begin(), scored.end(), true) <= kPolishDirectVertices;
-    if (small)
+    const std::ptrdiff_t scored_count = std::count(scored.begin(), scored.end(), true);
+    if (scored_count <= kPolishDirectVertices)
       polish_options.active_defect = std::min(polish_options.active_defect, kPolishActiveShare * before.mean_abs);
     const auto polish_start = Clock::now();
-    const bool from_input_too = small && improved;
+    const bool from_input_too = improved && scored_count <= kLeastMoveVertices;
     const PolishResult polished =
         polish_defects(result.positions, positions, normals_before, triangles, scored, pinned, polish_options,
                        progress.sub(0.95, from_input_too ? 0.975 : 1.0));

@@ -296,8 +296,9 @@ def draw_result(layout, context, obj):
         "%.0f ms" % rec.time_ms if rec.time_ms < 10000 else "%.1f s" % (rec.time_ms / 1000),
         rec.iterations))
     if rec.polish_iterations:
-        col.label(text="Angle polish: %d steps%s" % (
-            rec.polish_iterations, " of the input" if rec.polished_from_input else ""))
+        # Short enough for the default sidebar width.
+        col.label(text=("Polished the input: %d steps" if rec.polished_from_input
+                        else "Angle polish: %d steps") % rec.polish_iterations)
     col.label(text="Stopped: %s" % rec.stop_reason)
     col.label(text="Pieces: %d; pinned: %d" % (rec.patches, rec.pinned))
     if rec.engine_result:

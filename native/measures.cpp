@@ -154,4 +154,23 @@ std::vector<bool> interior_vertices(const Positions& positions, const Triangles&
   return interior;
 }
 
+double normal_roughness(const Normals& normals, const Triangles& triangles, const VertexFaces& connectivity) {
+  double sum = 0.0;
+  Eigen::Index counted = 0;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::RowVector3d n = normals.row(f);
+    if (n.squaredNorm() == 0.0) continue;
+    Eigen::RowVector3d around = n;
+    for (int k = 0; k < 3; ++k) {
+      const int g = face_across(connectivity, triangles, static_cast<int>(f), triangles(f, k), triangles(f, (k + 1) % 3));
+      if (g >= 0) around += normals.row(g);
+    }
+    const double length = around.norm();
+    if (length == 0.0) continue;
+    sum += std::acos(std::clamp(n.dot(around) / length, -1.0, 1.0));
+    ++counted;
+  }
+  return counted > 0 ? sum / static_cast<double>(counted) : 0.0;
+}
+
 }  // namespace developable

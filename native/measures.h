@@ -2,6 +2,7 @@
 // per-face quantities the later stages use.
 #pragma once
 
+#include "mesh_connectivity.h"
 #include "types.h"
 
 #include <Eigen/Core>
@@ -40,6 +41,14 @@ DefectStats defect_stats(const Eigen::VectorXd& defects, const std::vector<bool>
 // whose reference normal is zero are not checked. Ascending face indices.
 //   normals, reference: one row per face (face_normals).
 std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference);
+
+// Roughness of the normal field: the mean over the faces of the angle (rad)
+// between a face's unit normal and the normalised sum of its own and its
+// edge neighbours' normals. Noise raises it; a smooth surface's comes from
+// its curvature alone (a 2 % AE noisy cylinder grid: about twice the
+// noise-free one's). Zero normals are skipped; 0 for an empty mesh.
+//   normals: face_normals; connectivity: vertex_faces of the same triangles.
+double normal_roughness(const Normals& normals, const Triangles& triangles, const VertexFaces& connectivity);
 
 // Interior vertices: used by some triangle and not on the boundary.
 std::vector<bool> interior_vertices(const Positions& positions, const Triangles& triangles);

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 namespace developable {
 namespace {
 
@@ -94,6 +97,27 @@ TEST(Measures, TurnedOverFacesAreThoseMoreThan90DegreesOffOrCollapsed) {
   normals.row(1) = Eigen::RowVector3d(0, 1, -0.01).normalized();   // just past 90 degrees
   const std::vector<Eigen::Index> turned = turned_over_faces(normals, reference);
   EXPECT_EQ(turned, (std::vector<Eigen::Index>{1, 2}));
+}
+
+// normal_roughness: zero on a plane, the cylinder's own from its curvature,
+// raised by noise, the same at any scale.
+TEST(Measures, NormalRoughnessIsZeroFlatAndGrowsWithNoise) {
+  const auto flat = test::plane();
+  const auto flat_table = vertex_faces(flat.triangles, flat.positions.rows());
+  EXPECT_NEAR(normal_roughness(face_normals(flat.positions, flat.triangles), flat.triangles, flat_table), 0.0, 1e-12);
+
+  auto m = test::cylinder(10, 30);
+  const auto table = vertex_faces(m.triangles, m.positions.rows());
+  const double smooth = normal_roughness(face_normals(m.positions, m.triangles), m.triangles, table);
+  EXPECT_GT(smooth, 0.0);
+  EXPECT_LT(smooth, 2.0 * M_PI / 30);  // below the turn between neighbouring columns
+  Positions scaled = 1000.0 * m.positions;
+  EXPECT_NEAR(normal_roughness(face_normals(scaled, m.triangles), m.triangles, table), smooth, 1e-12);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> noise(-0.02, 0.02);
+  for (Eigen::Index v = 0; v < m.positions.rows(); ++v)
+    for (int k = 0; k < 3; ++k) m.positions(v, k) += noise(random);
+  EXPECT_GT(normal_roughness(face_normals(m.positions, m.triangles), m.triangles, table), 1.5 * smooth);
 }
 
 }  // namespace

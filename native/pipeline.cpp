@@ -842,6 +842,16 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   Normals normals = normals_before;  // of `current`: shared by the fold check, the refit and the step
   double best_score = input.score, previous_mean = before.mean_abs;
   bool improved = false;
+  // Makes an eligible, better candidate the result.
+  const auto keep = [&](const Positions& candidate, const Figures& now) {
+    improved = true;
+    best_score = now.score;
+    result.positions = candidate;
+    result.defect_after = now.defects;
+    stats.mean_defect_after = now.defect.mean_abs;
+    stats.max_defect_after = now.defect.max_abs;
+    stats.flat_share_after = now.flat;
+  };
   stats.stop_reason = StopReason::iteration_limit;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report(0.1 + 0.85 * (iteration - 1) / options.max_iterations, "deformation");
@@ -862,13 +872,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
         second_phase &&
         (now.flat < first_phase_flat || rms_move(current, positions) > kSecondPhaseMove * first_phase_move);
     if (judge.eligible(now) && !second_phase_worse && now.score < best_score) {
-      improved = true;
-      best_score = now.score;
-      result.positions = current;
-      result.defect_after = now.defects;
-      stats.mean_defect_after = now.defect.mean_abs;
-      stats.max_defect_after = now.defect.max_abs;
-      stats.flat_share_after = now.flat;
+      keep(current, now);
       result.curves = targets.curves();
       result.target_normals = targets.targets();
     }
@@ -924,15 +928,6 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
         polish_defects(result.positions, positions, normals_before, triangles, scored, pinned, polish_options,
                        progress.sub(0.95, from_input_too ? 0.975 : 1.0));
     stats.polish_iterations = polished.iterations;
-    const auto keep = [&](const Positions& candidate, const Figures& now) {
-      improved = true;
-      best_score = now.score;
-      result.positions = candidate;
-      result.defect_after = now.defects;
-      stats.mean_defect_after = now.defect.mean_abs;
-      stats.max_defect_after = now.defect.max_abs;
-      stats.flat_share_after = now.flat;
-    };
     if (polished.iterations > 0) {
       const Figures now = judge.measure(polished.positions, face_normals(polished.positions, triangles));
       if (judge.eligible(now) && now.score < best_score) keep(polished.positions, now);

@@ -936,15 +936,20 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
       const PolishResult direct = polish_defects(positions, positions, normals_before, triangles, scored, pinned,
                                                  polish_options, progress.sub(0.975, 1.0));
       if (direct.iterations > 0) {
-        const Figures now = judge.measure(direct.positions, face_normals(direct.positions, triangles));
-        if (judge.eligible(now) && now.score < input.score &&
+        const Normals direct_normals = face_normals(direct.positions, triangles);
+        const Figures now = judge.measure(direct.positions, direct_normals);
+        const bool as_developable =
+            judge.eligible(now) && now.score < input.score &&
             now.flat >= stats.flat_share_after - kLeastMoveFlatSlack &&
             now.defect.mean_abs <= stats.mean_defect_after + kLeastMoveDefectSlack * before.mean_abs &&
-            now.defect.max_abs <= std::max(stats.max_defect_after, before.max_abs) &&
-            rms_move(direct.positions, positions) < rms_move(result.positions, positions) &&
-            normal_roughness(face_normals(direct.positions, triangles), triangles, connectivity) <=
+            now.defect.max_abs <= std::max(stats.max_defect_after, before.max_abs);
+        // The roughness last: it is the dearest test.
+        const bool moves_less =
+            as_developable && rms_move(direct.positions, positions) < rms_move(result.positions, positions) &&
+            normal_roughness(direct_normals, triangles, connectivity) <=
                 kLeastMoveRoughness *
-                    normal_roughness(face_normals(result.positions, triangles), triangles, connectivity)) {
+                    normal_roughness(face_normals(result.positions, triangles), triangles, connectivity);
+        if (moves_less) {
           keep(direct.positions, now);
           stats.polish_iterations = direct.iterations;
           stats.polished_from_input = true;

@@ -63,8 +63,8 @@ def meshes_dir():
 # start-up, a pattern unfolded once) is put in one xdist_group with the
 # module's other users of such fixtures, per Blender for the add-on modules
 # whose fixture is per Blender; the other tests are handed out one at a time.
-# The longest units go first (FIRST: the ASan run of test_hardening.py alone
-# is about a third of the suite's CPU time), so that no worker is left alone
+# The longest units go first (FIRST: the ASan run of test_hardening.py and
+# the fuzz run take about a minute each), so that no worker is left alone
 # with one of them at the end.
 FIRST = ("test_hardening_sanitizers.py::test_engine_suite_under_asan_and_ubsan[tests/test_hardening.py]",
          "test_hardening_sanitizers.py::test_fuzz_for_a_minute",  # 60 s on one core

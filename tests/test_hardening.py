@@ -301,7 +301,9 @@ def test_extreme_scale_gives_the_same_relative_result(library, scale, settings):
     r2 = native.run(p * scale, t, params=kw)
     assert_sound(r2, p * scale, 10)
     assert np.abs(relative(r2, p * scale) - relative(r1, p)).max() < 1e-3
-    assert r2.stats["mean_defect_after"] == pytest.approx(r1.stats["mean_defect_after"], rel=1e-2)
+    # Within 1 %, or both far below the flat threshold, where the polish stops
+    # anywhere: 2.37e-10 and 2.24e-10 rad on one machine, equal on another.
+    assert r2.stats["mean_defect_after"] == pytest.approx(r1.stats["mean_defect_after"], rel=1e-2, abs=1e-8)
     assert r2.stats["average_edge_length"] == pytest.approx(r1.stats["average_edge_length"] * scale,
                                                             rel=1e-12)
 

@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 5  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 6  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -83,6 +83,8 @@ class dev_params(ctypes.Structure):
         # ABI 4
         ("max_move", ctypes.c_double),
         ("polish", ctypes.c_int32),
+        # ABI 6
+        ("polish_smoothed_input", ctypes.c_int32),
     ]
 
 
@@ -127,6 +129,8 @@ class dev_stats(ctypes.Structure):
         ("time_polish_ms", ctypes.c_double),
         # ABI 5
         ("polished_from_input", ctypes.c_int32),
+        # ABI 6
+        ("input_smoothed", ctypes.c_int32),
     ]
 
 

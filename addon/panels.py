@@ -170,6 +170,7 @@ def draw_advanced(layout, owner):
     _automatic(col, owner, "target_smoothing", "Target smoothing")
     _automatic(col, owner, "grid_resolution", "Curve search grid")
     _labelled(col, owner, "polish", "Angle polish")
+    col.prop(owner, "polish_smoothed_input")
     col = layout.column(align=True)
     _labelled(col, owner, "max_iterations", "Max iterations")
     _labelled(col, owner, "stop_relative_change", "Stop below change")
@@ -299,6 +300,8 @@ def draw_result(layout, context, obj):
         # Short enough for the default sidebar width.
         col.label(text=("Polished the input: %d steps" if rec.polished_from_input
                         else "Angle polish: %d steps") % rec.polish_iterations)
+        if rec.input_smoothed:
+            col.label(text="  (its noise smoothed first)")
     col.label(text="Stopped: %s" % rec.stop_reason)
     col.label(text="Pieces: %d; pinned: %d" % (rec.patches, rec.pinned))
     if rec.engine_result:

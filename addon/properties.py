@@ -26,6 +26,7 @@ GENERAL = {
     "use_mls_weights": True, "stop_relative_change": 0.001, "developable_threshold": -10,
     "segmentation": 'AUTO', "auto_target_patches": True, "auto_segment_max_error": True,
     "seams": 'FREE', "auto_grid_resolution": True, "auto_target_smoothing": True, "polish": 'AUTO',
+    "polish_smoothed_input": True,
 }
 PRESETS = {
     'GENERAL': {},
@@ -78,6 +79,7 @@ POLISH_ITEMS = [
      "every vertex sum to 360 degrees (angle defect zero)", 1),
     ("OFF", "Off", "Stop after the deformation, as in the paper", 0),
 ]
+
 SOLVER_ITEMS = [
     ("DECOUPLED", "Fast", "The normal rows go to the right-hand side: one n x n matrix shared by "
      "x, y and z, factored once (default)", native.SOLVER_DECOUPLED),
@@ -196,6 +198,12 @@ def engine_property_definitions():
             name="Angle Polish", items=POLISH_ITEMS, default="AUTO", update=u,
             description="Finish by driving the angle defect of every vertex inside the pieces "
             "to zero with small moves, within the same limit (beyond the paper)"),
+        "polish_smoothed_input": BoolProperty(
+            name="Polish Smoothed Mesh", default=True, update=u,
+            description="On meshes of up to 3000 inner vertices, also polish the mesh with its "
+            "noise smoothed (each vertex put on a quadric fitted to its neighbours, creases kept) "
+            "and keep that if it moved the mesh less and is as flat: a noisy scan then loses its "
+            "noise, not its shape (beyond the paper)"),
     }
 
 
@@ -358,6 +366,9 @@ class DEVELOPABLE_PG_result(PropertyGroup):
         name="Polished the input",
         description="The result is the angle polish of the input itself: it moved the mesh less than "
                     "the deformation did, and is as flat")
+    input_smoothed: BoolProperty(
+        name="Smoothed first",
+        description="The polished input had its noise smoothed first")
     stop_reason: StringProperty(name="Stopped")
     max_move: FloatProperty(name="Largest move", precision=5,
                             description="Largest distance a vertex moved (world units)")

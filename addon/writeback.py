@@ -149,6 +149,7 @@ def store_stats(obj, result, scale, pinned_count, figures, verdict, message, eng
     rec.iterations = s["iterations"]
     rec.polish_iterations = s.get("polish_iterations", 0)
     rec.polished_from_input = bool(s.get("polished_from_input", 0))
+    rec.input_smoothed = bool(s.get("input_smoothed", 0))
     rec.stop_reason = native.STOP_REASONS.get(s["stop_reason"], str(s["stop_reason"]))
     rec.max_move = s["max_vertex_move"]
     rec.average_edge = s["average_edge_length"]

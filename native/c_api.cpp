@@ -150,6 +150,7 @@ developable::PipelineOptions to_options(const dev_params& p) {
   o.target_smoothing = p.target_smoothing;
   o.max_move = p.max_move;
   o.polish = p.polish;
+  o.polish_smoothed_input = p.polish_smoothed_input != 0;
   // Not a parameter: the result does not depend on it (tests and benchmarks
   // set it to check that, and servers to share the machine).
   if (const char* threads = std::getenv("DEVELOPABLE_THREADS"); threads != nullptr && *threads != '\0') {
@@ -215,6 +216,7 @@ void dev_default_params(dev_params* params) {
   params->target_smoothing = o.target_smoothing;
   params->max_move = o.max_move;
   params->polish = o.polish;
+  params->polish_smoothed_input = o.polish_smoothed_input ? 1 : 0;
 }
 
 int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles,
@@ -279,6 +281,7 @@ int32_t dev_result_stats(const dev_result* result, dev_stats* stats) {
   stats->polish_iterations = s.polish_iterations;
   stats->time_polish_ms = s.time_polish_ms;
   stats->polished_from_input = s.polished_from_input ? 1 : 0;
+  stats->input_smoothed = s.input_smoothed ? 1 : 0;
   const size_t length = std::min(s.result_message.size(), sizeof stats->result_message - 1);
   std::memcpy(stats->result_message, s.result_message.data(), length);
   stats->result_message[length] = '\0';

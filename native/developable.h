@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 5
+#define DEV_ABI_VERSION 6
 
 /* Status codes (values are stable). */
 enum {
@@ -123,6 +123,11 @@ typedef struct dev_params {
                                  Default 0.01 (1 % of the size). */
   int32_t polish;             /* the angle-defect polish after the deformation: -1 automatic
                                  (default: on in DEV_MODE_REFIT, off in DEV_MODE_PAPER), 0 off, 1 on. */
+  /* ABI 6: */
+  int32_t polish_smoothed_input; /* nonzero: where the polish of the input competes with the
+                                   deformation's result (meshes of up to 3000 scored vertices), the
+                                   polish of the input with its noise smoothed (local quadric fits),
+                                   and of that after one deformation step, compete too. Default 1. */
 } dev_params;
 
 typedef struct dev_stats {
@@ -158,6 +163,9 @@ typedef struct dev_stats {
   /* ABI 5: */
   int32_t polished_from_input;  /* 1: the result is the polish of the input itself, which moved the
                                    mesh less than the deformation and its polish, as flat */
+  /* ABI 6: */
+  int32_t input_smoothed;       /* 1 (with polished_from_input): the polish started from the input
+                                   with its noise smoothed */
 } dev_stats;
 
 /* Opaque result of one run; free with dev_result_free. */

@@ -1,5 +1,6 @@
 #include "pipeline.h"
 
+#include "jet_denoise.h"
 #include "measures.h"
 #include "memory_budget.h"
 #include "mesh_input.h"
@@ -80,6 +81,29 @@ constexpr double kClosedMeshGrowth = 0.05;
 
 double rms_move(const Positions& a, const Positions& b) {
   return std::sqrt((a - b).rowwise().squaredNorm().mean());
+}
+
+// The figures least motion compares of two results.
+struct Developability {
+  double flat = 0.0, mean_abs = 0.0, max_abs = 0.0;
+};
+
+// Least motion (docs/method.md): whether `candidate`, eligible and better
+// than the input, is returned instead of `current`. It must be as
+// developable (flat share at most kLeastMoveFlatSlack lower, mean |defect|
+// at most kLeastMoveDefectSlack of the input's mean `before` higher, largest
+// |defect| no larger than both current's and the input's), move `input`
+// less (RMS) and keep its normals at most kLeastMoveRoughness as rough.
+bool less_motion_wins(const Developability& candidate, const Positions& candidate_positions,
+                      const Developability& current, const Positions& current_positions, const DefectStats& before,
+                      const Positions& input, const Triangles& triangles, const VertexFaces& connectivity) {
+  const bool as_developable = candidate.flat >= current.flat - kLeastMoveFlatSlack &&
+                              candidate.mean_abs <= current.mean_abs + kLeastMoveDefectSlack * before.mean_abs &&
+                              candidate.max_abs <= std::max(current.max_abs, before.max_abs);
+  if (!as_developable || rms_move(candidate_positions, input) >= rms_move(current_positions, input)) return false;
+  // The roughness last: it is the dearest test.
+  return normal_roughness(face_normals(candidate_positions, triangles), triangles, connectivity) <=
+         kLeastMoveRoughness * normal_roughness(face_normals(current_positions, triangles), triangles, connectivity);
 }
 
 // Rounds of averaging along the rulings in the second phase (automatic
@@ -506,6 +530,12 @@ class TargetField {
     if (smoother_) targets_ = smoother_->smooth(targets_, areas, smoothing_rounds_);
   }
 
+  // The targets of `current` (face normals `normals`) on curves refit on it.
+  void refit(const Positions& current, const Normals& normals) {
+    refit_next_ = true;
+    update(current, normals, 2);
+  }
+
   // The second phase of a stalled one-patch run: from the next update on,
   // curves refit at once and targets averaged along the rulings (or, when
   // the caller chose ruling_smoothing, one isotropic round).
@@ -926,33 +956,46 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     const bool from_input_too = improved && scored_count <= kLeastMoveVertices;
     const PolishResult polished =
         polish_defects(result.positions, positions, normals_before, triangles, scored, pinned, polish_options,
-                       progress.sub(0.95, from_input_too ? 0.975 : 1.0));
+                       progress.sub(0.95, from_input_too ? 0.97 : 1.0));
     stats.polish_iterations = polished.iterations;
     if (polished.iterations > 0) {
       const Figures now = judge.measure(polished.positions, face_normals(polished.positions, triangles));
       if (judge.eligible(now) && now.score < best_score) keep(polished.positions, now);
     }
     if (from_input_too) {
-      const PolishResult direct = polish_defects(positions, positions, normals_before, triangles, scored, pinned,
-                                                 polish_options, progress.sub(0.975, 1.0));
-      if (direct.iterations > 0) {
-        const Normals direct_normals = face_normals(direct.positions, triangles);
-        const Figures now = judge.measure(direct.positions, direct_normals);
-        const bool as_developable =
-            judge.eligible(now) && now.score < input.score &&
-            now.flat >= stats.flat_share_after - kLeastMoveFlatSlack &&
-            now.defect.mean_abs <= stats.mean_defect_after + kLeastMoveDefectSlack * before.mean_abs &&
-            now.defect.max_abs <= std::max(stats.max_defect_after, before.max_abs);
-        // The roughness last: it is the dearest test.
+      // Least motion's candidates, each returned if it wins: the polish of
+      // the input; of the input with its noise smoothed (jet_denoise.h,
+      // within the limit); and of that after one deformation step toward
+      // targets refit on it, which takes off the noise the smoothing left
+      // in the normals (docs/method.md, "Smoothed input").
+      std::vector<Positions> starts{positions};
+      if (options.polish_smoothed_input) {
+        Positions smoothed = jet_denoise(positions, triangles, connectivity, pinned);
+        if (limit > 0.0) clamp_to_tolerance(smoothed, positions, limit);
+        starts.push_back(smoothed);
+        Normals smoothed_normals = face_normals(smoothed, triangles);
+        targets.refit(smoothed, smoothed_normals);
+        deformation.set_targets(targets.targets());
+        stats.fold_retries += step.advance(smoothed, smoothed_normals);
+        starts.push_back(std::move(smoothed));
+      }
+      for (size_t k = 0; k < starts.size(); ++k) {
+        const double from = 0.97 + 0.03 * static_cast<double>(k) / static_cast<double>(starts.size());
+        const PolishResult direct =
+            polish_defects(starts[k], positions, normals_before, triangles, scored, pinned, polish_options,
+                           progress.sub(from, from + 0.03 / static_cast<double>(starts.size())));
+        if (direct.iterations == 0) continue;
+        const Figures now = judge.measure(direct.positions, face_normals(direct.positions, triangles));
         const bool moves_less =
-            as_developable && rms_move(direct.positions, positions) < rms_move(result.positions, positions) &&
-            normal_roughness(direct_normals, triangles, connectivity) <=
-                kLeastMoveRoughness *
-                    normal_roughness(face_normals(result.positions, triangles), triangles, connectivity);
+            judge.eligible(now) && now.score < input.score &&
+            less_motion_wins({now.flat, now.defect.mean_abs, now.defect.max_abs}, direct.positions,
+                             {stats.flat_share_after, stats.mean_defect_after, stats.max_defect_after},
+                             result.positions, before, positions, triangles, connectivity);
         if (moves_less) {
           keep(direct.positions, now);
           stats.polish_iterations = direct.iterations;
           stats.polished_from_input = true;
+          stats.input_smoothed = k >= 1;
         }
       }
     }

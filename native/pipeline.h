@@ -5,6 +5,8 @@
 //   segment_mesh (segmentation.h)        curvature-based patches
 //   fit_ideal_curves (ideal_curve.h)     stages 3-6, per patch
 //   NormalGuidedDeformation              stage 7, iterated
+//   polish_defects (defect_polish.h)     stage 8, with least motion's candidates
+//                                        (jet_denoise.h: the smoothed input)
 #pragma once
 
 #include "curve_search.h"
@@ -84,6 +86,10 @@ struct PipelineOptions {
   // The angle-defect polish after the deformation (defect_polish.h): -1
   // automatic (on in the refit mode, off in the paper mode), 0 off, 1 on.
   int polish = -1;
+  // Least motion's candidates include the polish of the input with its
+  // noise smoothed (jet_denoise.h), and of that after one deformation step
+  // (run_pipeline; docs/method.md, "Smoothed input").
+  bool polish_smoothed_input = true;
 };
 
 // Throws EngineError(invalid_argument) naming the first option out of range.
@@ -118,6 +124,9 @@ struct PipelineStats {
   // The result is the polish of the input itself, which moved the mesh less
   // than the deformation and its polish (run_pipeline, "least motion").
   bool polished_from_input = false;
+  // ... with its noise smoothed first (jet_denoise.h; maybe one deformation
+  // step after that).
+  bool input_smoothed = false;
   double time_decompose_ms = 0.0, time_iterate_ms = 0.0, time_total_ms = 0.0;  // t_D, t_I, t_T
   double time_polish_ms = 0.0;
   ResultKind result = ResultKind::unchanged;

@@ -49,6 +49,8 @@ const char* const usage_text =
     "                       stalls far from developable and the polish is off)\n"
     "  --polish auto|on|off drive the angle defects to zero after the deformation\n"
     "                       (default auto: on in refit mode, off in paper mode)\n"
+    "  --no-smoothed-input  do not let the polish of the input with its noise\n"
+    "                       smoothed compete with the deformation's result\n"
     "  --report FILE.json   write the run's figures, patch ids and curves as JSON\n"
     "                       (with --pattern also the pattern's pieces and seams)\n"
     "\n"
@@ -202,6 +204,7 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
   json << "  \"parameters\": {\"omega\": " << json_number(params.omega)
        << ", \"tolerance_ae\": " << json_number(params.tolerance)
        << ", \"max_move\": " << json_number(params.max_move) << ", \"polish\": " << params.polish
+       << ", \"polish_smoothed_input\": " << params.polish_smoothed_input
        << ", \"max_iterations\": " << params.max_iterations << ", \"mode\": \""
        << (params.mode == DEV_MODE_PAPER ? "paper" : "refit") << "\", \"solver\": \""
        << (params.solver == DEV_SOLVER_COUPLED ? "coupled" : "decoupled")
@@ -227,6 +230,7 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
        << ", \"time_polish_ms\": " << json_number(s.time_polish_ms)
        << ", \"polish_iterations\": " << s.polish_iterations
        << ", \"polished_from_input\": " << (s.polished_from_input ? "true" : "false")
+       << ", \"input_smoothed\": " << (s.input_smoothed ? "true" : "false")
        << ", \"result\": \"" << (s.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved") << "\""
        << ", \"faces_turned_over\": " << s.faces_turned_over
        << ", \"flat_share_before\": " << json_number(s.flat_share_before)
@@ -300,6 +304,8 @@ int main(int argc, char** argv) {
     } else if (arg == "--polish") {
       const int index = choice({"auto", "on", "off"});
       params.polish = index == 0 ? -1 : (index == 1 ? 1 : 0);
+    } else if (arg == "--no-smoothed-input") {
+      params.polish_smoothed_input = 0;
     } else if (arg == "--max-iterations") {
       params.max_iterations = parse_integer(arg, value());
     } else if (arg == "--mode") {
@@ -418,7 +424,7 @@ int main(int argc, char** argv) {
                  stats.mean_defect_before, stats.mean_defect_after, stats.change_percent,
                  stats.max_defect_before, stats.max_defect_after, stats.iterations,
                  stop_reason_name(stats.stop_reason), stats.polish_iterations,
-                 stats.polished_from_input ? " (of the input)" : "", stats.max_vertex_move,
+                 stats.polished_from_input ? (stats.input_smoothed ? " (of the smoothed input)" : " (of the input)") : "", stats.max_vertex_move,
                  stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
                  stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
     std::fprintf(stderr, "flat %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",

@@ -127,7 +127,8 @@ typedef struct dev_params {
   int32_t polish_smoothed_input; /* nonzero: where the polish of the input competes with the
                                    deformation's result (meshes of up to 3000 scored vertices), the
                                    polish of the input with its noise smoothed (local quadric fits),
-                                   and of that after one deformation step, compete too. Default 1. */
+                                   and of that after one deformation step, compete too; the last one
+                                   also on meshes of up to 10000 scored vertices. Default 1. */
 } dev_params;
 
 typedef struct dev_stats {

@@ -110,6 +110,19 @@ def test_the_polish_of_the_smoothed_input_removes_the_noise_not_the_shape(librar
     assert h < h0 and h < sampled_hausdorff(without.positions, m.triangles, m.clean, m.triangles)
 
 
+def test_meshes_of_up_to_10000_scored_vertices_have_the_stepped_smoothed_candidate(library):
+    """Above 3000 scored vertices least motion has one candidate, the polish
+    of the smoothed input after one deformation step (pipeline.cpp,
+    kSmoothedStepVertices); without it the deformation's rulings shift."""
+    m = families.make("tangent_helix", "grid", faces=8000, noise=0.02, seed=1)
+    r = native.run(m.positions, m.triangles)
+    assert 3000 < r.stats["interior_vertices"] <= 10000
+    assert r.stats["polished_from_input"] and r.stats["input_smoothed"]
+    assert r.stats["flat_share_after"] >= 0.95 and r.stats["change_percent"] <= -99
+    h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
+    assert sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) <= 1.5 * h0
+
+
 def test_paper_curved_cone_beats_the_paper(library):
     """Table I's setting: boundary pinned, E_allow = 10 AE, omega = 5; the
     paper removed 67.8 % of the mean |defect|."""

@@ -170,7 +170,9 @@ def draw_advanced(layout, owner):
     _automatic(col, owner, "target_smoothing", "Target smoothing")
     _automatic(col, owner, "grid_resolution", "Curve search grid")
     _labelled(col, owner, "polish", "Angle polish")
-    col.prop(owner, "polish_smoothed_input")
+    row = col.row()
+    row.active = owner.polish != 'OFF'  # its candidates are polishes
+    row.prop(owner, "polish_smoothed_input")
     col = layout.column(align=True)
     _labelled(col, owner, "max_iterations", "Max iterations")
     _labelled(col, owner, "stop_relative_change", "Stop below change")

@@ -70,9 +70,10 @@ constexpr double kLeastMoveDefectSlack = 0.01;
 // that is a band, not a curve (the run command's demo band: 2.8 against 1.7
 // degrees, the input's 3.2).
 constexpr double kLeastMoveRoughness = 1.25;
-// Meshes of up to this many scored vertices have the second candidate: the
-// polish of a raw noisy input refactors its system at each of some 30 steps
-// (a 10k-face noisy grid: +1.2 s), which larger meshes do not pay.
+// Meshes of up to this many scored vertices have all of least motion's
+// candidates (run_pipeline): the polish of a raw or smoothed noisy input
+// refactors its system at each of some 15-30 steps (a 10k-face noisy grid:
+// +1.2 s for the raw one), which larger meshes do not pay ...
 constexpr std::ptrdiff_t kLeastMoveVertices = 3000;
 // ... and meshes of up to this many only the last, most often winning one
 // (the polish of the smoothed input after one step; 56 of 141 tuning runs

@@ -79,7 +79,6 @@ POLISH_ITEMS = [
      "every vertex sum to 360 degrees (angle defect zero)", 1),
     ("OFF", "Off", "Stop after the deformation, as in the paper", 0),
 ]
-
 SOLVER_ITEMS = [
     ("DECOUPLED", "Fast", "The normal rows go to the right-hand side: one n x n matrix shared by "
      "x, y and z, factored once (default)", native.SOLVER_DECOUPLED),

@@ -1,6 +1,6 @@
-// Stage 0 (beyond the paper): the input's noise smoothed by local quadrics,
-// a start for the pipeline's second run on small meshes (run_pipeline,
-// "smoothed start"; docs/method.md).
+// Stage 8a (beyond the paper): the input's noise smoothed by local
+// quadrics, the start of two of least motion's candidates (run_pipeline;
+// docs/method.md, "Smoothed input").
 //
 // Each vertex is moved along the normal of its two-ring's best plane onto
 // the quadric height field z = a x^2 + b xy + c y^2 + d x + e y + f fitted to

@@ -959,18 +959,18 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     if (scored_count <= kPolishDirectVertices)
       polish_options.active_defect = std::min(polish_options.active_defect, kPolishActiveShare * before.mean_abs);
     const auto polish_start = Clock::now();
-    const bool from_input_too = improved && scored_count <= kLeastMoveVertices;
-    const bool smoothed_step_only = improved && options.polish_smoothed_input && !from_input_too &&
-                                    scored_count <= kSmoothedStepVertices;
+    const bool all_candidates = improved && scored_count <= kLeastMoveVertices;
+    const bool stepped_candidate =
+        improved && options.polish_smoothed_input && scored_count <= kSmoothedStepVertices;
     const PolishResult polished =
         polish_defects(result.positions, positions, normals_before, triangles, scored, pinned, polish_options,
-                       progress.sub(0.95, from_input_too || smoothed_step_only ? 0.97 : 1.0));
+                       progress.sub(0.95, all_candidates || stepped_candidate ? 0.97 : 1.0));
     stats.polish_iterations = polished.iterations;
     if (polished.iterations > 0) {
       const Figures now = judge.measure(polished.positions, face_normals(polished.positions, triangles));
       if (judge.eligible(now) && now.score < best_score) keep(polished.positions, now);
     }
-    if (from_input_too || smoothed_step_only) {
+    if (all_candidates || stepped_candidate) {
       // Least motion's candidates, each returned if it wins: the polish of
       // the input; of the input with its noise smoothed (jet_denoise.h,
       // within the limit); and of that after one deformation step toward
@@ -982,11 +982,11 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
         bool smoothed;
       };
       std::vector<Start> starts;
-      if (from_input_too) starts.push_back({positions, false});
-      if (options.polish_smoothed_input) {
+      if (all_candidates) starts.push_back({positions, false});
+      if (stepped_candidate) {
         Positions smoothed = jet_denoise(positions, triangles, connectivity, pinned);
         if (limit > 0.0) clamp_to_tolerance(smoothed, positions, limit);
-        if (from_input_too) starts.push_back({smoothed, true});
+        if (all_candidates) starts.push_back({smoothed, true});
         Normals smoothed_normals = face_normals(smoothed, triangles);
         targets.refit(smoothed, smoothed_normals);
         deformation.set_targets(targets.targets());

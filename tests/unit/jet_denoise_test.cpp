@@ -64,8 +64,11 @@ TEST(JetDenoise, DoesNotRoundACrease) {
     return Eigen::Vector3d(u, std::min(v, 0.5), std::max(0.0, v - 0.5));
   });
   const Positions s = denoised(m);
-  for (Eigen::Index v = 0; v < s.rows(); ++v)
-    if (std::abs(m.positions(v, 1) - 0.5) < 1e-12) EXPECT_EQ(s.row(v), m.positions.row(v)) << v;
+  for (Eigen::Index v = 0; v < s.rows(); ++v) {
+    if (std::abs(m.positions(v, 1) - 0.5) < 1e-12) {
+      EXPECT_EQ(s.row(v), m.positions.row(v)) << v;
+    }
+  }
 }
 
 }  // namespace

@@ -22,6 +22,10 @@ using Clock = std::chrono::steady_clock;
 // RMS angle (rad) between the normals and one set of ideal curves above which
 // automatic segmentation splits the mesh into patches.
 constexpr double kAutoSegmentationError = 0.12;
+// Open meshes automatic segmentation splits, up to this many interior
+// vertices, are also run as one patch (run_pipeline, "second opinion"): a
+// second run, which a 1k-vertex family mesh pays in 0.1-0.5 s.
+constexpr Eigen::Index kSecondOpinionVertices = 10000;
 
 // Stall rule of the iteration (see run_pipeline): stop when the best score
 // gained less than this fraction over this many iterations. On one patch 5 %
@@ -458,30 +462,30 @@ struct Patches {
   Normals targets;  // of the input's normals
 };
 
-Patches find_patches(const Positions& positions, const Triangles& triangles, const Normals& normals,
-                     const Eigen::VectorXd& areas, const VertexFaces& connectivity,
-                     const PipelineOptions& options, const Progress& progress) {
+// The whole mesh as one patch, with its curves and targets.
+Patches one_patch(const Normals& normals, const Eigen::VectorXd& areas, const PipelineOptions& options) {
   Patches patches;
-  patches.ids.assign(static_cast<size_t>(triangles.rows()), 0);
-  bool segment = options.segmentation == 1;
-  if (!segment) {
-    patches.faces = faces_of_patches(patches.ids, 1);
-    patches.curves = fit_patch_curves(normals, areas, patches.faces, options.curve_options);
-    patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, 1), nullptr,
-                                           options.threads);
-    segment = options.segmentation == -1 &&
-              curve_fit_error(normals, patches.targets, areas) > kAutoSegmentationError;
-  }
-  if (segment) {
-    patches.ids = segment_mesh(positions, triangles, normals, areas, connectivity, options.segmentation_options,
-                               progress.sub(0.02, 0.05));
-    for (int label : patches.ids) patches.count = std::max(patches.count, label + 1);
-    progress.report(0.05, "ideal curve");
-    patches.faces = faces_of_patches(patches.ids, patches.count);
-    patches.curves = fit_patch_curves(normals, areas, patches.faces, options.curve_options);
-    patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, patches.count),
-                                           nullptr, options.threads);
-  }
+  patches.ids.assign(static_cast<size_t>(normals.rows()), 0);
+  patches.faces = faces_of_patches(patches.ids, 1);
+  patches.curves = fit_patch_curves(normals, areas, patches.faces, options.curve_options);
+  patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, 1), nullptr,
+                                         options.threads);
+  return patches;
+}
+
+// The segmentation's patches (segmentation.h), with their curves and targets.
+Patches segmented_patches(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                          const Eigen::VectorXd& areas, const VertexFaces& connectivity,
+                          const PipelineOptions& options, const Progress& progress) {
+  Patches patches;
+  patches.ids = segment_mesh(positions, triangles, normals, areas, connectivity, options.segmentation_options,
+                             progress.sub(0.02, 0.05));
+  for (int label : patches.ids) patches.count = std::max(patches.count, label + 1);
+  progress.report(0.05, "ideal curve");
+  patches.faces = faces_of_patches(patches.ids, patches.count);
+  patches.curves = fit_patch_curves(normals, areas, patches.faces, options.curve_options);
+  patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, patches.count),
+                                         nullptr, options.threads);
   return patches;
 }
 
@@ -771,38 +775,48 @@ double move_limit(const Positions& positions, const PipelineOptions& options, do
   return limit;
 }
 
-}  // namespace
+// The input and its measures (stage 2), shared by the runs on its patches.
+struct MeasuredInput {
+  const Positions& positions;
+  const Triangles& triangles;
+  const VertexFaces& connectivity;
+  const PipelineOptions& options;
+  Clock::time_point start_time;
+  PipelineResult measured;  // the input's stats and defects, nothing else yet
+  DefectStats before;
+  double limit = 0.0;          // move_limit
+  std::vector<bool> pinned;    // pins_of
+  Normals normals;             // per face
+  Eigen::VectorXd areas;       // per face
+};
 
-PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,
-                            const std::vector<bool>& pinned_input, const PipelineOptions& options,
-                            const Progress& progress) {
-  const auto start_time = Clock::now();
-  const VertexFaces connectivity = check_input(positions, triangles, pinned_input, options, progress);
+// Of two results of one input, whether `a` is the more developable by the
+// figures the user sees: a flat share and a mean |defect| both at least as
+// good as `b`'s, one of them better, and a largest |defect| no larger than
+// both `b`'s and the input's.
+bool more_developable(const PipelineStats& a, const PipelineStats& b) {
+  return a.flat_share_after >= b.flat_share_after && a.mean_defect_after <= b.mean_defect_after &&
+         (a.flat_share_after > b.flat_share_after || a.mean_defect_after < b.mean_defect_after) &&
+         a.max_defect_after <= std::max(b.max_defect_after, a.max_defect_before);
+}
+
+// Steps "targets" to "polish" on the given patches: the deformation's
+// iterations, the polish and least motion's candidates.
+PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patches, const Progress& progress) {
+  const Positions& positions = input_measures.positions;
+  const Triangles& triangles = input_measures.triangles;
+  const VertexFaces& connectivity = input_measures.connectivity;
+  const PipelineOptions& options = input_measures.options;
+  const auto start_time = input_measures.start_time;
   const Eigen::Index n = positions.rows();
-
-  // The input's measures (stage 2).
-  PipelineResult result;
+  PipelineResult result = input_measures.measured;
   PipelineStats& stats = result.stats;
-  stats.vertices = n;
-  stats.faces = triangles.rows();
-  result.interior = interior_vertices(positions, triangles);
-  result.defect_before = angle_defects(positions, triangles, result.interior);
-  const DefectStats before = defect_stats(result.defect_before, result.interior);
-  stats.interior_vertices = before.interior_count;
-  if (before.interior_count == 0)
-    throw EngineError(Status::no_interior_vertex, no_interior_vertex_message(positions));
-  stats.mean_defect_before = before.mean_abs;
-  stats.max_defect_before = before.max_abs;
-  stats.average_edge_length = average_edge_length(positions, triangles);
-  stats.flat_share_before = flat_share(result.defect_before, result.interior);
-  const double limit = move_limit(positions, options, stats.average_edge_length);
-  std::vector<bool> pinned = pins_of(positions, triangles, pinned_input, options);
-  const Normals normals_before = face_normals(positions, triangles);
-  const Eigen::VectorXd areas_before = face_areas(positions, triangles);
+  const DefectStats& before = input_measures.before;
+  const double limit = input_measures.limit;
+  std::vector<bool> pinned = input_measures.pinned;
+  const Normals& normals_before = input_measures.normals;
+  const Eigen::VectorXd& areas_before = input_measures.areas;
 
-  // Patches and their first curves (stages 3-6).
-  progress.report(0.02, "ideal curve");
-  Patches patches = find_patches(positions, triangles, normals_before, areas_before, connectivity, options, progress);
   stats.patches = patches.count;
   result.patch_ids = patches.ids;
   // The refit mode treats a segmented mesh as pieces meeting at seams: it is
@@ -1029,6 +1043,68 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   stats.time_total_ms = elapsed_ms(start_time);
   progress.report(1.0, "done");
   return result;
+}
+
+}  // namespace
+
+PipelineResult run_pipeline(const Positions& positions, const Triangles& triangles,
+                            const std::vector<bool>& pinned_input, const PipelineOptions& options,
+                            const Progress& progress) {
+  const auto start_time = Clock::now();
+  const VertexFaces connectivity = check_input(positions, triangles, pinned_input, options, progress);
+  MeasuredInput input{positions, triangles, connectivity, options, start_time, {}, {}, 0.0, {}, {}, {}};
+
+  // The input's measures (stage 2).
+  PipelineResult& measured = input.measured;
+  PipelineStats& stats = measured.stats;
+  stats.vertices = positions.rows();
+  stats.faces = triangles.rows();
+  measured.interior = interior_vertices(positions, triangles);
+  measured.defect_before = angle_defects(positions, triangles, measured.interior);
+  input.before = defect_stats(measured.defect_before, measured.interior);
+  stats.interior_vertices = input.before.interior_count;
+  if (input.before.interior_count == 0)
+    throw EngineError(Status::no_interior_vertex, no_interior_vertex_message(positions));
+  stats.mean_defect_before = input.before.mean_abs;
+  stats.max_defect_before = input.before.max_abs;
+  stats.average_edge_length = average_edge_length(positions, triangles);
+  stats.flat_share_before = flat_share(measured.defect_before, measured.interior);
+  input.limit = move_limit(positions, options, stats.average_edge_length);
+  input.pinned = pins_of(positions, triangles, pinned_input, options);
+  input.normals = face_normals(positions, triangles);
+  input.areas = face_areas(positions, triangles);
+
+  // Patches and their first curves (stages 3-6).
+  progress.report(0.02, "ideal curve");
+  if (options.segmentation == 0) return deform_patches(input, one_patch(input.normals, input.areas, options), progress);
+  Patches single;
+  if (options.segmentation == -1) {
+    single = one_patch(input.normals, input.areas, options);
+    if (curve_fit_error(input.normals, single.targets, input.areas) <= kAutoSegmentationError)
+      return deform_patches(input, std::move(single), progress);
+  }
+  Patches patches =
+      segmented_patches(positions, triangles, input.normals, input.areas, connectivity, options, progress);
+
+  // Automatic segmentation's second opinion: the misfit that chose it also
+  // grows where the fit of one curve fails on a developable (a coarse or
+  // noisy Gauss image the fit calls a blob), and there the segmented run
+  // is worse on every figure (docs/segmentation.md). On a mesh with a
+  // boundary and up to kSecondOpinionVertices interior vertices the run on
+  // one patch is made too and returned if it is the more developable. A
+  // closed surface is never one developable piece (some point of it is
+  // curved like a sphere), so closed meshes go without.
+  const std::vector<bool> on_boundary = boundary_vertices(positions, triangles);
+  const bool second_opinion = options.segmentation == -1 && patches.count > 1 &&
+                              std::find(on_boundary.begin(), on_boundary.end(), true) != on_boundary.end() &&
+                              stats.interior_vertices <= kSecondOpinionVertices &&
+                              input.before.mean_abs > options.developable_threshold;
+  if (!second_opinion) return deform_patches(input, std::move(patches), progress);
+  PipelineResult segmented = deform_patches(input, std::move(patches), progress.sub(0.0, 0.55));
+  PipelineResult whole = deform_patches(input, std::move(single), progress.sub(0.55, 1.0));
+  PipelineResult& chosen = more_developable(whole.stats, segmented.stats) ? whole : segmented;
+  chosen.stats.time_total_ms = elapsed_ms(start_time);
+  return std::move(chosen);
 }
 
 }  // namespace developable

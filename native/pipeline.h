@@ -156,7 +156,11 @@ struct PipelineResult {
 // vertices; on a segmented mesh in the refit mode, the median over those
 // inside the patches, because there the curvature is meant to gather on the
 // seams. When no iterate is eligible and better, the input is returned with
-// stats.result = unchanged and stats.result_message saying why.
+// stats.result = unchanged and stats.result_message saying why. Automatic
+// segmentation (options.segmentation -1) that splits an open mesh of up to
+// 10000 interior vertices also runs it as one patch and returns that run if
+// it is the more developable (flat share and mean |defect| both at least as
+// good, one better; docs/segmentation.md, "second opinion").
 // Throws EngineError: check_input's statuses, no_interior_vertex (naming the
 // vertices that share a position when the mesh looks like an unwelded
 // polygon soup), no_free_vertex, cancelled (via progress), numerical_failure.

@@ -23,8 +23,10 @@ CATEGORY = "Developable"
 #   angle polish              faces * 6 us (1M faces: 5.6 s), when it runs
 # max_iterations caps the iterations. Automatic segmentation is decided by the
 # engine, so the panel gives the range between the one-patch and the
-# segmented run.
+# segmented run; an open mesh it splits, up to 10000 interior vertices
+# (about SECOND_OPINION_FACES), is also run as one patch (docs/segmentation.md).
 LARGE_MESH_FACES = 100_000
+SECOND_OPINION_FACES = 20_000
 
 
 def expected_seconds(faces, settings):
@@ -49,7 +51,7 @@ def expected_seconds(faces, settings):
     if settings.segmentation == 'ON' or (not settings.auto_target_patches
                                          and settings.target_patches > 1):
         return segmented, segmented
-    return one_patch, segmented
+    return one_patch, segmented + (one_patch if faces <= SECOND_OPINION_FACES else 0.0)
 
 
 def _duration_text(seconds):

@@ -1105,7 +1105,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
                               stats.interior_vertices <= kSecondOpinionVertices &&
                               input.before.mean_abs > options.developable_threshold;
   if (!second_opinion) return deform_patches(input, std::move(patches), progress);
-  PipelineResult segmented = deform_patches(input, std::move(patches), progress.sub(0.0, 0.55));
+  PipelineResult segmented = deform_patches(input, std::move(patches), progress.sub(0.05, 0.55));
   PipelineResult whole = deform_patches(input, std::move(single), progress.sub(0.55, 1.0));
   PipelineResult& chosen = more_developable(whole.stats, segmented.stats) ? whole : segmented;
   chosen.stats.time_total_ms = elapsed_ms(start_time);

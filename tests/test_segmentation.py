@@ -58,7 +58,9 @@ def test_automatic_segmentation_gives_way_to_one_patch_that_is_more_developable(
     as one patch, and the automatic choice returns the one-patch run
     (pipeline.cpp, second opinion). Tuning seeds of devkit/families.py."""
     m = families.random_case(family, seed, triangulations=[triangulation])
-    auto = native.run(m.positions, m.triangles)
+    fractions = []
+    auto = native.run(m.positions, m.triangles, progress=lambda f, _: fractions.append(f) or True)
+    assert fractions == sorted(fractions) and fractions[-1] == 1.0  # two runs, one progress bar
     split = native.run(m.positions, m.triangles, params=dict(segmentation=1))
     whole = native.run(m.positions, m.triangles, params=dict(segmentation=0))
     assert split.stats["patches"] > 1

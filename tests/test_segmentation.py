@@ -128,6 +128,22 @@ def test_human_woman_is_made_piecewise_developable(library, meshes_dir):
     assert distance <= 0.01 * bbox_diagonal(positions)
 
 
+def test_whole_objects_with_the_defaults_finish_their_nearly_flat_vertices(library, meshes_dir):
+    """Issue 11's bound for whole objects: human_woman with every default ends
+    with at least 60 % of its interior vertices flat, within 1 % of the
+    diagonal, no face turned over. The second polish of the nearly flat
+    vertices gets it there (about 73 %; 59 % without it), and it finishes
+    without folding more edges than the first (docs/method.md, "Nearly flat
+    vertices")."""
+    positions, triangles = read_obj(meshes_dir / "human_woman.obj")
+    result = native.run(positions, triangles)
+    assert flat_share(result.defect_after, result.interior) >= 0.6
+    assert result.stats["faces_turned_over"] == 0
+    # The move limit is 1 % of the diagonal exactly, and the vertex at it sets the distance.
+    distance = sampled_hausdorff(positions, triangles, result.positions, triangles)
+    assert distance <= 0.01 * bbox_diagonal(positions) * (1 + 1e-9)
+
+
 @pytest.mark.parametrize("seams", [native.SEAMS_FREE, native.SEAMS_PINNED], ids=["free", "pinned"])
 def test_segmented_result_is_flatter_inside_the_patches(library, meshes_dir, seams):
     """Default settings: automatic segmentation, and the kept iterate is the

@@ -104,19 +104,26 @@ struct Developability {
   double flat = 0.0, mean_abs = 0.0, max_abs = 0.0;
 };
 
+// Whether `candidate` is as developable as `current`: flat share at most
+// kLeastMoveFlatSlack lower, mean |defect| at most kLeastMoveDefectSlack of
+// the input's mean `before` higher, largest |defect| no larger than both
+// current's and the input's.
+bool as_developable(const Developability& candidate, const Developability& current, const DefectStats& before) {
+  return candidate.flat >= current.flat - kLeastMoveFlatSlack &&
+         candidate.mean_abs <= current.mean_abs + kLeastMoveDefectSlack * before.mean_abs &&
+         candidate.max_abs <= std::max(current.max_abs, before.max_abs);
+}
+
 // Least motion (docs/method.md): whether `candidate`, eligible and better
 // than the input, is returned instead of `current`. It must be as
-// developable (flat share at most kLeastMoveFlatSlack lower, mean |defect|
-// at most kLeastMoveDefectSlack of the input's mean `before` higher, largest
-// |defect| no larger than both current's and the input's), move `input`
-// less (RMS) and keep its normals at most kLeastMoveRoughness as rough.
+// developable, move `input` less (RMS) and keep its normals at most
+// kLeastMoveRoughness as rough.
 bool less_motion_wins(const Developability& candidate, const Positions& candidate_positions,
                       const Developability& current, const Positions& current_positions, const DefectStats& before,
                       const Positions& input, const Triangles& triangles, const VertexFaces& connectivity) {
-  const bool as_developable = candidate.flat >= current.flat - kLeastMoveFlatSlack &&
-                              candidate.mean_abs <= current.mean_abs + kLeastMoveDefectSlack * before.mean_abs &&
-                              candidate.max_abs <= std::max(current.max_abs, before.max_abs);
-  if (!as_developable || rms_move(candidate_positions, input) >= rms_move(current_positions, input)) return false;
+  if (!as_developable(candidate, current, before) ||
+      rms_move(candidate_positions, input) >= rms_move(current_positions, input))
+    return false;
   // The roughness last: it is the dearest test.
   return normal_roughness(face_normals(candidate_positions, triangles), triangles, connectivity) <=
          kLeastMoveRoughness * normal_roughness(face_normals(current_positions, triangles), triangles, connectivity);
@@ -468,31 +475,34 @@ struct Patches {
   Normals targets;  // of the input's normals
 };
 
-// The whole mesh as one patch, with its curves and targets.
-Patches one_patch(const Normals& normals, const Eigen::VectorXd& areas, const PipelineOptions& options) {
+// Patches with ids `ids` (0 .. count-1 per face), their curves and targets.
+Patches fitted_patches(std::vector<int> ids, int count, const Normals& normals, const Eigen::VectorXd& areas,
+                       const PipelineOptions& options) {
   Patches patches;
-  patches.ids.assign(static_cast<size_t>(normals.rows()), 0);
-  patches.faces = faces_of_patches(patches.ids, 1);
+  patches.ids = std::move(ids);
+  patches.count = count;
+  patches.faces = faces_of_patches(patches.ids, count);
   patches.curves = fit_patch_curves(normals, areas, patches.faces, options.curve_options);
-  patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, 1), nullptr,
+  patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, count), nullptr,
                                          options.threads);
   return patches;
 }
 
-// The segmentation's patches (segmentation.h), with their curves and targets.
+// The whole mesh as one patch.
+Patches one_patch(const Normals& normals, const Eigen::VectorXd& areas, const PipelineOptions& options) {
+  return fitted_patches(std::vector<int>(static_cast<size_t>(normals.rows()), 0), 1, normals, areas, options);
+}
+
+// The segmentation's patches (segmentation.h).
 Patches segmented_patches(const Positions& positions, const Triangles& triangles, const Normals& normals,
                           const Eigen::VectorXd& areas, const VertexFaces& connectivity,
                           const PipelineOptions& options, const Progress& progress) {
-  Patches patches;
-  patches.ids = segment_mesh(positions, triangles, normals, areas, connectivity, options.segmentation_options,
-                             progress.sub(0.02, 0.05));
-  for (int label : patches.ids) patches.count = std::max(patches.count, label + 1);
+  std::vector<int> ids = segment_mesh(positions, triangles, normals, areas, connectivity,
+                                     options.segmentation_options, progress.sub(0.02, 0.05));
+  int count = 1;
+  for (int label : ids) count = std::max(count, label + 1);
   progress.report(0.05, "ideal curve");
-  patches.faces = faces_of_patches(patches.ids, patches.count);
-  patches.curves = fit_patch_curves(normals, areas, patches.faces, options.curve_options);
-  patches.targets = patch_target_normals(normals, patches.faces, patch_curve_searches(patches.curves, patches.count),
-                                         nullptr, options.threads);
-  return patches;
+  return fitted_patches(std::move(ids), count, normals, areas, options);
 }
 
 // Step "targets": the target normal of every face at every iteration. In
@@ -794,6 +804,7 @@ struct MeasuredInput {
   std::vector<bool> pinned;    // pins_of
   Normals normals;             // per face
   Eigen::VectorXd areas;       // per face
+  bool closed = false;         // no boundary edge
 };
 
 // Of two results of one input, whether `a` is the more developable by the
@@ -872,8 +883,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   FoldSafeStep step(deformation, positions, normals_before, triangles, connectivity,
                     formulation == Formulation::decoupled, limit, mode);
 
-  const std::vector<bool> on_boundary = boundary_vertices(positions, triangles);
-  const bool closed = std::none_of(on_boundary.begin(), on_boundary.end(), [](bool b) { return b; });
+  const bool closed = input_measures.closed;
   Figures input;
   input.defects = result.defect_before;
   input.defect = before;
@@ -982,10 +992,12 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     const bool all_candidates = improved && scored_count <= kLeastMoveVertices;
     const bool stepped_candidate =
         improved && options.polish_smoothed_input && scored_count <= kSmoothedStepVertices;
+    // Progress: the polish, then the nearly flat ones, then the candidates.
     const double polish_end = all_candidates || stepped_candidate ? 0.97 : 1.0;
+    const double polish_mid = 0.5 * (0.95 + polish_end);
     const PolishResult polished =
         polish_defects(result.positions, positions, normals_before, triangles, scored, pinned, polish_options,
-                       progress.sub(0.95, 0.95 + 0.5 * (polish_end - 0.95)));
+                       progress.sub(0.95, polish_mid));
     stats.polish_iterations = polished.iterations;
     if (polished.iterations > 0) {
       const Figures now = judge.measure(polished.positions, face_normals(polished.positions, triangles));
@@ -1012,12 +1024,12 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     if (improved && some_curved) {
       const PolishResult finished =
           polish_defects(result.positions, positions, normals_before, triangles, nearly_flat, pinned, polish_options,
-                         progress.sub(0.95 + 0.5 * (polish_end - 0.95), polish_end));
+                         progress.sub(polish_mid, polish_end));
       if (finished.iterations > 0) {
         const Figures now = judge.measure(finished.positions, face_normals(finished.positions, triangles));
         if (judge.eligible(now) && now.flat > stats.flat_share_after &&
-            now.defect.mean_abs <= stats.mean_defect_after + kLeastMoveDefectSlack * before.mean_abs &&
-            now.defect.max_abs <= std::max(stats.max_defect_after, before.max_abs)) {
+            as_developable({now.flat, now.defect.mean_abs, now.defect.max_abs},
+                           {stats.flat_share_after, stats.mean_defect_after, stats.max_defect_after}, before)) {
           keep(finished.positions, now);
           stats.polish_iterations += finished.iterations;
         }
@@ -1096,7 +1108,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
                             const Progress& progress) {
   const auto start_time = Clock::now();
   const VertexFaces connectivity = check_input(positions, triangles, pinned_input, options, progress);
-  MeasuredInput input{positions, triangles, connectivity, options, start_time, {}, {}, 0.0, {}, {}, {}};
+  MeasuredInput input{positions, triangles, connectivity, options, start_time, {}, {}, 0.0, {}, {}, {}, false};
 
   // The input's measures (stage 2).
   PipelineResult& measured = input.measured;
@@ -1117,6 +1129,8 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   input.pinned = pins_of(positions, triangles, pinned_input, options);
   input.normals = face_normals(positions, triangles);
   input.areas = face_areas(positions, triangles);
+  const std::vector<bool> on_boundary = boundary_vertices(positions, triangles);
+  input.closed = std::none_of(on_boundary.begin(), on_boundary.end(), [](bool b) { return b; });
 
   // Patches and their first curves (stages 3-6).
   progress.report(0.02, "ideal curve");
@@ -1138,9 +1152,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   // one patch is made too and returned if it is the more developable. A
   // closed surface is never one developable piece (some point of it is
   // curved like a sphere), so closed meshes go without.
-  const std::vector<bool> on_boundary = boundary_vertices(positions, triangles);
-  const bool second_opinion = options.segmentation == -1 && patches.count > 1 &&
-                              std::find(on_boundary.begin(), on_boundary.end(), true) != on_boundary.end() &&
+  const bool second_opinion = options.segmentation == -1 && patches.count > 1 && !input.closed &&
                               stats.interior_vertices <= kSecondOpinionVertices &&
                               input.before.mean_abs > options.developable_threshold;
   if (!second_opinion) return deform_patches(input, std::move(patches), progress);

@@ -229,7 +229,9 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   // little, and with more damping when even a fresh factor's steps fail.
   DampedSystem system(options.direct_rows);
   bool fresh = false;
-  double damping = kInitialDamping;
+  // The spreading damping holds until every |K| is below spread_until.
+  double least_damping = std::max(kSmallestDamping, options.spread_damping);
+  double damping = std::max(kInitialDamping, least_damping);
   auto factor = [&]() {
     const RowMatrix& J = jacobian.matrix();
     Eigen::SparseMatrix<double> normal = J * J.transpose();
@@ -245,6 +247,11 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   std::vector<std::pair<double, Eigen::Index>> history;  // (sum K^2, flat rows) after each kept step
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     if (residual.lpNorm<Eigen::Infinity>() < options.target_defect) break;
+    if (least_damping > kSmallestDamping && residual.lpNorm<Eigen::Infinity>() < options.spread_until) {
+      least_damping = kSmallestDamping;
+      damping = kInitialDamping;
+      factored = false;
+    }
     progress.report(static_cast<double>(iteration) / options.max_iterations, "polish");
     bool kept = false;
     Positions trial;
@@ -328,7 +335,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     fresh = false;
     if (decrease < kReuseDecrease) {
       factored = false;
-      damping = std::max(damping / kDampingDown, kSmallestDamping);
+      damping = std::max(damping / kDampingDown, least_damping);
     }
   }
   result.positions = std::move(current);

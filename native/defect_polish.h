@@ -22,7 +22,9 @@
 // and factored numerically each iteration (Eigen's SimplicialLDLT). A step
 // is kept only when it lowers sum K^2, turns no face more than 90 degrees
 // from its reference normal and, after moving every vertex back within
-// `limit` of its reference position, still lowers it; else mu grows.
+// `limit` of its reference position, still lowers it; else mu grows. mu
+// (relative to the mean diagonal of J J^T) falls after good steps, down to
+// 1e-12, or to `spread_damping` while defects are large.
 //
 // The minimum-norm form moves the vertices as little as the linearisation
 // allows; it is not the closest developable mesh (that projection was tried
@@ -47,6 +49,14 @@ struct PolishOptions {
   // Rows of the damped system up to which it is factored (sparse Cholesky);
   // above, conjugate gradients (the factor of a larger one fills in).
   int direct_rows = 20000;
+  // While some |K| the polish works on is at or above `spread_until` (rad),
+  // the Levenberg-Marquardt damping mu stays at least `spread_damping`
+  // (relative to the mean diagonal of J J^T): the steps stay nearer the
+  // gradient, which spreads the motion over more vertices (the polishes of
+  // the input, see run_pipeline). Then, and with the default 0 throughout,
+  // mu may fall to Gauss-Newton's, which finishes quadratically.
+  double spread_damping = 0.0;
+  double spread_until = 1e-3;
 };
 
 struct PolishResult {

@@ -86,7 +86,7 @@ constexpr double kLeastMoveRoughness = 1.25;
 // 0.019 rad against the twin's 0.024). The roughness guard then takes the
 // smoothed input's roughness as its reference where that is higher. On the
 // families' seeds 0-9 and 100-102 two runs change, 7.6 -> 0.95 and 9.9 ->
-// 1.6 times the noise from the twin; the demo band (3.6 times, where
+// 1.06 times the noise from the twin; the demo band (3.6 times, where
 // kLeastMoveRoughness matters) is below it (docs/method.md, "Least motion").
 constexpr double kShapeChangeMove = 4.0;
 // The polishes of the input (raw or smoothed: least motion's candidates,

@@ -146,24 +146,54 @@ bool as_developable(const Developability& candidate, const Developability& curre
          candidate.max_abs <= std::max(current.max_abs, before.max_abs);
 }
 
-// Least motion (docs/method.md): whether `candidate`, eligible and better
-// than the input, is returned instead of `current`. It must be as
-// developable, move `input` less (RMS) and keep its normals at most
-// kLeastMoveRoughness as rough as current's, or as `shape_roughness` where
-// that is higher (rad; 0 where current's is the reference).
-bool less_motion_wins(const Developability& candidate, const Positions& candidate_positions,
-                      const Developability& current, const Positions& current_positions, const DefectStats& before,
-                      const Positions& input, const Triangles& triangles, const VertexFaces& connectivity,
-                      double shape_roughness) {
-  if (!as_developable(candidate, current, before) ||
-      rms_move(candidate_positions, input) >= rms_move(current_positions, input))
-    return false;
-  // The roughness last: it is the dearest test.
-  const double reference =
-      std::max(shape_roughness, normal_roughness(face_normals(current_positions, triangles), triangles, connectivity));
-  return normal_roughness(face_normals(candidate_positions, triangles), triangles, connectivity) <=
-         kLeastMoveRoughness * reference;
-}
+// Least motion (docs/method.md): the result least motion's candidates
+// compete with, and the test. A candidate, eligible and better than the
+// input, wins when it is as developable, moves the input less (RMS) and
+// keeps its normals at most kLeastMoveRoughness as rough as the result's,
+// or as the shape's (set_shape_roughness, rad, see kShapeChangeMove) where
+// that is higher. The result's move is measured once, its roughness only
+// when a candidate gets that far (the dearest test, last).
+class LeastMotion {
+ public:
+  // `result` is read until the first win; the references must outlive this.
+  LeastMotion(const Positions& input, const Triangles& triangles, const VertexFaces& connectivity,
+              const DefectStats& before, const Positions& result, const Developability& figures)
+      : input_(input), triangles_(triangles), connectivity_(connectivity), before_(before), result_(&result),
+        figures_(figures), move_(rms_move(result, input)) {}
+
+  // The result's RMS distance to the input.
+  double move() const { return move_; }
+
+  // Before the first wins().
+  void set_shape_roughness(double roughness) { shape_roughness_ = roughness; }
+
+  // Whether the candidate wins; if it does, it is the result from now on.
+  bool wins(const Positions& candidate, const Normals& candidate_normals, const Developability& figures) {
+    const double candidate_move = rms_move(candidate, input_);
+    if (!as_developable(figures, figures_, before_) || candidate_move >= move_) return false;
+    if (reference_ < 0.0)
+      reference_ = std::max(shape_roughness_,
+                            normal_roughness(face_normals(*result_, triangles_), triangles_, connectivity_));
+    const double roughness = normal_roughness(candidate_normals, triangles_, connectivity_);
+    if (roughness > kLeastMoveRoughness * reference_) return false;
+    result_ = nullptr;
+    figures_ = figures;
+    move_ = candidate_move;
+    reference_ = std::max(shape_roughness_, roughness);
+    return true;
+  }
+
+ private:
+  const Positions& input_;
+  const Triangles& triangles_;
+  const VertexFaces& connectivity_;
+  const DefectStats& before_;
+  const Positions* result_;  // the first result, until its roughness is known
+  Developability figures_;
+  double move_;
+  double shape_roughness_ = 0.0;
+  double reference_ = -1.0;  // max(shape_roughness_, the result's roughness); < 0: not yet needed
+};
 
 // Rounds of averaging along the rulings in the second phase (automatic
 // ruling_smoothing).
@@ -721,6 +751,14 @@ struct Figures {
   double score = 0.0;
 };
 
+Developability developability_of(const Figures& figures) {
+  return {figures.flat, figures.defect.mean_abs, figures.defect.max_abs};
+}
+
+Developability developability_of(const PipelineStats& stats) {
+  return {stats.flat_share_after, stats.mean_defect_after, stats.max_defect_after};
+}
+
 class Judge {
  public:
   Judge(const Triangles& triangles, const std::vector<bool>& interior, const Normals& input_normals,
@@ -1021,7 +1059,8 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   if (polish) {
     PolishOptions polish_options;
     polish_options.limit = limit;
-    // Without a better iterate the polish starts from the input.
+    // Without a better iterate the polish starts from the input (and the
+    // nearly-flat polish then finishes that).
     if (!improved) polish_options.spread_damping = kInputPolishDamping;
     const std::ptrdiff_t scored_count = std::count(scored.begin(), scored.end(), true);
     if (scored_count <= kPolishDirectVertices)
@@ -1066,8 +1105,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       if (finished.iterations > 0) {
         const Figures now = judge.measure(finished.positions, face_normals(finished.positions, triangles));
         if (judge.eligible(now) && now.flat > stats.flat_share_after &&
-            as_developable({now.flat, now.defect.mean_abs, now.defect.max_abs},
-                           {stats.flat_share_after, stats.mean_defect_after, stats.max_defect_after}, before)) {
+            as_developable(developability_of(now), developability_of(stats), before)) {
           keep(finished.positions, now);
           stats.polish_iterations += finished.iterations;
         }
@@ -1086,16 +1124,16 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       };
       std::vector<Start> starts;
       if (all_candidates) starts.push_back({positions, false});
-      double shape_roughness = 0.0;  // see kShapeChangeMove
+      LeastMotion least_motion(positions, triangles, connectivity, before, result.positions,
+                               developability_of(stats));
       if (stepped_candidate) {
         Positions smoothed = jet_denoise(positions, triangles, connectivity, pinned);
         if (limit > 0.0) clamp_to_tolerance(smoothed, positions, limit);
         const double smoothing_move = rms_move(smoothed, positions);
-        const double result_move = rms_move(result.positions, positions);
-        if (result_move > kShapeChangeMove * smoothing_move)
-          shape_roughness = normal_roughness(face_normals(smoothed, triangles), triangles, connectivity);
+        if (least_motion.move() > kShapeChangeMove * smoothing_move)
+          least_motion.set_shape_roughness(normal_roughness(face_normals(smoothed, triangles), triangles, connectivity));
         if (all_candidates) {
-          if (smoothing_move < kSameStartShare * result_move) starts.clear();  // the raw input's
+          if (smoothing_move < kSameStartShare * least_motion.move()) starts.clear();  // the raw input's
           starts.push_back({smoothed, true});
         }
         Normals smoothed_normals = face_normals(smoothed, triangles);
@@ -1110,19 +1148,16 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         // smoothed start already farther is not polished (the benchmark's
         // noise-free wavy cone spent 300 ms polishing two that lost so; on
         // the families' held-out seeds no result changes).
-        if (rms_move(starts[k].positions, positions) >= rms_move(result.positions, positions)) continue;
+        if (rms_move(starts[k].positions, positions) >= least_motion.move()) continue;
         const double from = 0.97 + 0.03 * static_cast<double>(k) / static_cast<double>(starts.size());
         const PolishResult direct =
             polish_defects(starts[k].positions, positions, normals_before, triangles, scored, pinned, polish_options,
                            progress.sub(from, from + 0.03 / static_cast<double>(starts.size())));
         if (direct.iterations == 0) continue;
-        const Figures now = judge.measure(direct.positions, face_normals(direct.positions, triangles));
-        const bool moves_less =
-            judge.eligible(now) && now.score < input.score &&
-            less_motion_wins({now.flat, now.defect.mean_abs, now.defect.max_abs}, direct.positions,
-                             {stats.flat_share_after, stats.mean_defect_after, stats.max_defect_after},
-                             result.positions, before, positions, triangles, connectivity, shape_roughness);
-        if (moves_less) {
+        const Normals direct_normals = face_normals(direct.positions, triangles);
+        const Figures now = judge.measure(direct.positions, direct_normals);
+        if (judge.eligible(now) && now.score < input.score &&
+            least_motion.wins(direct.positions, direct_normals, developability_of(now))) {
           keep(direct.positions, now);
           stats.polish_iterations = direct.iterations;
           stats.polished_from_input = true;

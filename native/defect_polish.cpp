@@ -162,54 +162,59 @@ class DampedSystem {
   bool analysed_ = false;
 };
 
-}  // namespace
+// Which vertices a polish moves and which defects it works on, read off the
+// defects at its start. The free vertices of the closed stars of the active
+// vertices (constrained, |K| >= active_defect) move; the rows are the
+// constrained vertices whose closed star holds a moving vertex, i.e. every
+// defect a step can change. Everything else stays where it is, so a mesh
+// that is flat but for a few vertices costs a system of their size.
+struct Region {
+  std::vector<bool> moves;
+  std::vector<bool> rows;
+};
 
-PolishResult polish_defects(const Positions& start, const Positions& reference, const Normals& reference_normals,
-                            const Triangles& triangles, const std::vector<bool>& constrained,
-                            const std::vector<bool>& pinned, const PolishOptions& options,
-                            const Progress& progress) {
-  const Eigen::Index n = start.rows();
-  if (reference.rows() != n || static_cast<Eigen::Index>(constrained.size()) != n ||
-      (!pinned.empty() && static_cast<Eigen::Index>(pinned.size()) != n) ||
-      reference_normals.rows() != triangles.rows())
-    throw EngineError(Status::internal_error, "polish_defects: sizes disagree");
-
-  PolishResult result;
-  result.positions = start;
-  const std::vector<bool> interior = constrained;  // angle_defects' mask: only these are read
-  Eigen::VectorXd defects = angle_defects(start, triangles, interior);
-
-  // Active: the constrained vertices still above options.active_defect.
-  // Unknowns: the free vertices of their closed stars. Rows: the constrained
-  // vertices whose star holds an unknown, i.e. every defect a step can
-  // change. Everything else stays where it is, so a mesh that is flat but
-  // for a few vertices costs a system of their size.
+Region region_of(const Triangles& triangles, const std::vector<bool>& constrained, const std::vector<bool>& pinned,
+                 const Eigen::VectorXd& defects, double active_defect) {
+  const size_t n = constrained.size();
   auto is_free = [&](int v) { return pinned.empty() || !pinned[static_cast<size_t>(v)]; };
-  std::vector<bool> moves(static_cast<size_t>(n), false);
+  Region region{std::vector<bool>(n, false), std::vector<bool>(n, false)};
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
     bool active = false;
     for (int c = 0; c < 3; ++c) {
       const int v = triangles(f, c);
-      active = active || (constrained[static_cast<size_t>(v)] && std::abs(defects[v]) >= options.active_defect);
+      active = active || (constrained[static_cast<size_t>(v)] && std::abs(defects[v]) >= active_defect);
     }
     if (active)
-      for (int c = 0; c < 3; ++c) moves[static_cast<size_t>(triangles(f, c))] = is_free(triangles(f, c));
+      for (int c = 0; c < 3; ++c) region.moves[static_cast<size_t>(triangles(f, c))] = is_free(triangles(f, c));
   }
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    if (region.moves[static_cast<size_t>(triangles(f, 0))] || region.moves[static_cast<size_t>(triangles(f, 1))] ||
+        region.moves[static_cast<size_t>(triangles(f, 2))])
+      for (int c = 0; c < 3; ++c) {
+        const auto v = static_cast<size_t>(triangles(f, c));
+        region.rows[v] = constrained[v];
+      }
+  }
+  return region;
+}
+
+// The polish of `region` on the mesh it was read off: the Levenberg-Marquardt
+// iterations of polish_defects (their contract), from `start` with its
+// `defects` (read at the rows only).
+PolishResult polish_region(const Positions& start, const Positions& reference, const Normals& reference_normals,
+                           const Triangles& triangles, const Region& region, Eigen::VectorXd defects,
+                           const PolishOptions& options, const Progress& progress) {
+  const Eigen::Index n = start.rows();
+  PolishResult result;
+  result.positions = start;
   std::vector<int> free_of(static_cast<size_t>(n), -1);
   Eigen::Index free_count = 0;
   for (Eigen::Index v = 0; v < n; ++v)
-    if (moves[static_cast<size_t>(v)]) free_of[static_cast<size_t>(v)] = static_cast<int>(free_count++);
-  std::vector<bool> reachable(static_cast<size_t>(n), false);
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    if (moves[static_cast<size_t>(triangles(f, 0))] || moves[static_cast<size_t>(triangles(f, 1))] ||
-        moves[static_cast<size_t>(triangles(f, 2))])
-      for (int c = 0; c < 3; ++c) reachable[static_cast<size_t>(triangles(f, c))] = true;
-  }
+    if (region.moves[static_cast<size_t>(v)]) free_of[static_cast<size_t>(v)] = static_cast<int>(free_count++);
   std::vector<int> row_of(static_cast<size_t>(n), -1);
   Eigen::Index rows = 0;
   for (Eigen::Index v = 0; v < n; ++v)
-    if (constrained[static_cast<size_t>(v)] && reachable[static_cast<size_t>(v)])
-      row_of[static_cast<size_t>(v)] = static_cast<int>(rows++);
+    if (region.rows[static_cast<size_t>(v)]) row_of[static_cast<size_t>(v)] = static_cast<int>(rows++);
   if (rows == 0 || free_count == 0) return result;
 
   DefectJacobian jacobian(triangles, row_of, free_of, rows, free_count);
@@ -301,7 +306,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
             for (int c = 0; c < 3; ++c) trial.row(triangles(f, c)) = current.row(triangles(f, c));
         }
         if (folded) continue;
-        trial_defects = angle_defects(trial, triangles, interior);
+        trial_defects = angle_defects(trial, triangles, region.rows);
         trial_energy = residual_at(trial_defects).squaredNorm();
         kept = trial_energy < energy;
       }
@@ -340,6 +345,78 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   }
   result.positions = std::move(current);
   result.residual_after = std::sqrt(residual.squaredNorm() / static_cast<double>(rows));
+  return result;
+}
+
+}  // namespace
+
+PolishResult polish_defects(const Positions& start, const Positions& reference, const Normals& reference_normals,
+                            const Triangles& triangles, const std::vector<bool>& constrained,
+                            const std::vector<bool>& pinned, const PolishOptions& options,
+                            const Progress& progress) {
+  const Eigen::Index n = start.rows();
+  if (reference.rows() != n || static_cast<Eigen::Index>(constrained.size()) != n ||
+      (!pinned.empty() && static_cast<Eigen::Index>(pinned.size()) != n) ||
+      reference_normals.rows() != triangles.rows())
+    throw EngineError(Status::internal_error, "polish_defects: sizes disagree");
+
+  const Eigen::VectorXd defects = angle_defects(start, triangles, constrained);
+  const Region region = region_of(triangles, constrained, pinned, defects, options.active_defect);
+
+  // The faces a step can change and those that hold a row's corners. Where
+  // they are not the whole mesh (a deformed iterate that is flat but for a
+  // few vertices), the polish runs on them alone: every trial step measures
+  // its faces and defects, which on the whole of a 1M-face mesh cost more
+  // than the steps themselves.
+  std::vector<Eigen::Index> faces;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    bool local = false;
+    for (int c = 0; c < 3; ++c) {
+      const auto v = static_cast<size_t>(triangles(f, c));
+      local = local || region.moves[v] || region.rows[v];
+    }
+    if (local) faces.push_back(f);
+  }
+  if (static_cast<Eigen::Index>(faces.size()) == triangles.rows())
+    return polish_region(start, reference, reference_normals, triangles, region, defects, options, progress);
+
+  // The submesh of those faces. Its vertices keep their order (and its faces
+  // theirs), so every angle sum, the system and its solution are the ones the
+  // whole mesh would give, bit for bit.
+  std::vector<int> local_of(static_cast<size_t>(n), -1);
+  for (Eigen::Index f : faces)
+    for (int c = 0; c < 3; ++c) local_of[static_cast<size_t>(triangles(f, c))] = 0;
+  std::vector<Eigen::Index> global_of;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (local_of[static_cast<size_t>(v)] == 0) {
+      local_of[static_cast<size_t>(v)] = static_cast<int>(global_of.size());
+      global_of.push_back(v);
+    }
+  const auto m = static_cast<Eigen::Index>(global_of.size());
+  const auto face_count = static_cast<Eigen::Index>(faces.size());
+  Positions local_start(m, 3), local_reference(m, 3);
+  Eigen::VectorXd local_defects(m);
+  Region local_region{std::vector<bool>(static_cast<size_t>(m)), std::vector<bool>(static_cast<size_t>(m))};
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::Index v = global_of[static_cast<size_t>(i)];
+    local_start.row(i) = start.row(v);
+    local_reference.row(i) = reference.row(v);
+    local_defects[i] = defects[v];
+    local_region.moves[static_cast<size_t>(i)] = region.moves[static_cast<size_t>(v)];
+    local_region.rows[static_cast<size_t>(i)] = region.rows[static_cast<size_t>(v)];
+  }
+  Triangles local_triangles(face_count, 3);
+  Normals local_normals(face_count, 3);
+  for (Eigen::Index i = 0; i < face_count; ++i) {
+    const Eigen::Index f = faces[static_cast<size_t>(i)];
+    for (int c = 0; c < 3; ++c) local_triangles(i, c) = local_of[static_cast<size_t>(triangles(f, c))];
+    local_normals.row(i) = reference_normals.row(f);
+  }
+  PolishResult local = polish_region(local_start, local_reference, local_normals, local_triangles, local_region,
+                                     std::move(local_defects), options, progress);
+  PolishResult result = local;
+  result.positions = start;
+  for (Eigen::Index i = 0; i < m; ++i) result.positions.row(global_of[static_cast<size_t>(i)]) = local.positions.row(i);
   return result;
 }
 

@@ -26,6 +26,11 @@
 // (relative to the mean diagonal of J J^T) falls after good steps, down to
 // 1e-12, or to `spread_damping` while defects are large.
 //
+// Only the vertices around the active ones (|K| >= active_defect) move, and
+// where they are not the whole mesh the iterations run on the submesh of
+// their faces (same result, bit for bit): a deformed 1M-face iterate that is
+// flat but for a few vertices is polished in 2 s instead of 12.
+//
 // The minimum-norm form moves the vertices as little as the linearisation
 // allows; it is not the closest developable mesh (that projection was tried
 // and measured no closer to the noise-free surfaces: docs/method.md).

@@ -74,6 +74,73 @@ TEST(DefectPolish, SpreadDampingMovesSingleVerticesLess) {
 
 // Large systems go to conjugate gradients (direct_rows); their inexact
 // steps reach the same flat, fold-free result here.
+// A mesh that is flat but for one bump (a deformed iterate) is polished on
+// the bump's neighbourhood alone: vertices farther away stay exactly where
+// they are, and the result is the polish of a cut-out of the neighbourhood,
+// bit for bit (the far mesh cannot change it).
+TEST(DefectPolish, ALocalDefectIsPolishedOnItsNeighbourhood) {
+  auto m = test::cylinder(16, 48);
+  const Eigen::Index bumped = 8 * 48 + 20;
+  m.positions.row(bumped) *= 1.01;  // out along the radius by 1 % of it
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  ASSERT_TRUE(interior[static_cast<size_t>(bumped)]);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  const PolishResult whole =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, PolishOptions{}, Progress{});
+  EXPECT_GT(whole.iterations, 0);
+  EXPECT_LT(largest_defect(whole.positions, m.triangles, interior), 1e-6);
+
+  // Rings around the bump: ring[v] = edge distance, up to 6.
+  const Eigen::Index n = m.positions.rows();
+  std::vector<int> ring(static_cast<size_t>(n), -1);
+  ring[static_cast<size_t>(bumped)] = 0;
+  for (int r = 0; r < 6; ++r)
+    for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {
+      bool at_r = false;
+      for (int c = 0; c < 3; ++c) at_r = at_r || ring[static_cast<size_t>(m.triangles(f, c))] == r;
+      if (!at_r) continue;
+      for (int c = 0; c < 3; ++c)
+        if (ring[static_cast<size_t>(m.triangles(f, c))] < 0) ring[static_cast<size_t>(m.triangles(f, c))] = r + 1;
+    }
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (ring[static_cast<size_t>(v)] < 0 || ring[static_cast<size_t>(v)] > 3) {
+      EXPECT_TRUE(whole.positions.row(v) == m.positions.row(v)) << v;
+    }
+
+  // The cut-out: faces within 6 rings, in their order, its vertices in theirs.
+  std::vector<int> local_of(static_cast<size_t>(n), -1);
+  std::vector<Eigen::Index> global_of, faces;
+  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {
+    bool inside = true;
+    for (int c = 0; c < 3; ++c) inside = inside && ring[static_cast<size_t>(m.triangles(f, c))] >= 0;
+    if (inside) faces.push_back(f);
+  }
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (ring[static_cast<size_t>(v)] >= 0) {
+      local_of[static_cast<size_t>(v)] = static_cast<int>(global_of.size());
+      global_of.push_back(v);
+    }
+  const auto cut_n = static_cast<Eigen::Index>(global_of.size());
+  Positions cut(cut_n, 3);
+  std::vector<bool> cut_interior(static_cast<size_t>(cut_n));
+  for (Eigen::Index i = 0; i < cut_n; ++i) {
+    const Eigen::Index v = global_of[static_cast<size_t>(i)];
+    cut.row(i) = m.positions.row(v);
+    cut_interior[static_cast<size_t>(i)] = ring[static_cast<size_t>(v)] < 6;  // the rim has lost faces
+  }
+  Triangles cut_triangles(static_cast<Eigen::Index>(faces.size()), 3);
+  Normals cut_normals(cut_triangles.rows(), 3);
+  for (Eigen::Index i = 0; i < cut_triangles.rows(); ++i) {
+    for (int c = 0; c < 3; ++c) cut_triangles(i, c) = local_of[static_cast<size_t>(m.triangles(faces[static_cast<size_t>(i)], c))];
+    cut_normals.row(i) = normals.row(faces[static_cast<size_t>(i)]);
+  }
+  const PolishResult local =
+      polish_defects(cut, cut, cut_normals, cut_triangles, cut_interior, {}, PolishOptions{}, Progress{});
+  EXPECT_EQ(local.iterations, whole.iterations);
+  for (Eigen::Index i = 0; i < cut_n; ++i)
+    EXPECT_TRUE(local.positions.row(i) == whole.positions.row(global_of[static_cast<size_t>(i)])) << i;
+}
+
 TEST(DefectPolish, ConjugateGradientsAboveTheDirectRowsAgree) {
   const auto m = noisy_cylinder(0.01, 2);
   const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);

@@ -867,6 +867,10 @@ double move_limit(const Positions& positions, const PipelineOptions& options, do
 
 // The input and its measures (stage 2), shared by the runs on its patches.
 struct MeasuredInput {
+  MeasuredInput(const Positions& p, const Triangles& t, const VertexFaces& c, const PipelineOptions& o,
+                Clock::time_point start)
+      : positions(p), triangles(t), connectivity(c), options(o), start_time(start) {}
+
   const Positions& positions;
   const Triangles& triangles;
   const VertexFaces& connectivity;
@@ -1190,7 +1194,7 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
                             const Progress& progress) {
   const auto start_time = Clock::now();
   const VertexFaces connectivity = check_input(positions, triangles, pinned_input, options, progress);
-  MeasuredInput input{positions, triangles, connectivity, options, start_time, {}, {}, 0.0, {}, {}, {}, false};
+  MeasuredInput input(positions, triangles, connectivity, options, start_time);  // measured below
 
   // The input's measures (stage 2).
   PipelineResult& measured = input.measured;

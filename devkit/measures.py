@@ -76,3 +76,24 @@ def seam_vertices(n, triangles, patch_ids):
         first[v[unset]] = patch_ids[unset]
         seam[v[first[v] != patch_ids]] = True
     return seam
+
+
+def sharpened_edges(before, after, triangles, patch_ids=None, growth_degrees=20.0):
+    """Edges of two faces (of one patch, when patch_ids is given) whose angle
+    between the face normals grew by more than growth_degrees from `before`
+    to `after`: creases the run made (the engine's crease guard, measures.h).
+    Returns the (k, 2) face pairs."""
+    sides = {}
+    for f, t in enumerate(np.asarray(triangles).tolist()):
+        for k in range(3):
+            a, b = t[k], t[(k + 1) % 3]
+            sides.setdefault((min(a, b), max(a, b)), []).append(f)
+    pairs = np.array([fs for fs in sides.values() if len(fs) == 2], dtype=int).reshape(-1, 2)
+    if patch_ids is not None:
+        pairs = pairs[patch_ids[pairs[:, 0]] == patch_ids[pairs[:, 1]]]
+
+    def angles(positions):
+        n = face_normals(positions, triangles)
+        return np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", n[pairs[:, 0]], n[pairs[:, 1]]), -1.0, 1.0)))
+
+    return pairs[angles(after) - angles(before) > growth_degrees]

@@ -218,6 +218,7 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
   if (rows == 0 || free_count == 0) return result;
 
   DefectJacobian jacobian(triangles, row_of, free_of, rows, free_count);
+  const CreaseGuard crease_guard(triangles, reference_normals, options.crease_groups, options.crease_growth);
   Eigen::VectorXd residual = jacobian.evaluate(start, defects);
   result.residual_before = std::sqrt(residual.squaredNorm() / static_cast<double>(rows));
   result.residual_after = result.residual_before;
@@ -292,11 +293,16 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
           }
         }
         // Faces near 90 degrees from their reference turn over at any step
-        // length (human_woman): their corners keep their place instead,
-        // ring by ring.
+        // length (human_woman), and faces the step would crease (the crease
+        // guard): their corners keep their place instead, ring by ring.
         bool folded = false;
         for (int round = 0;; ++round) {
-          const std::vector<Eigen::Index> turned = turned_over_faces(face_normals(trial, triangles), reference_normals);
+          const Normals trial_normals = face_normals(trial, triangles);
+          std::vector<Eigen::Index> turned = turned_over_faces(trial_normals, reference_normals);
+          if (crease_guard.active()) {
+            const std::vector<Eigen::Index> creased = crease_guard.creased_faces(trial_normals);
+            turned.insert(turned.end(), creased.begin(), creased.end());
+          }
           if (turned.empty()) break;
           if (round == kRevertRounds) {
             folded = true;
@@ -357,7 +363,8 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   const Eigen::Index n = start.rows();
   if (reference.rows() != n || static_cast<Eigen::Index>(constrained.size()) != n ||
       (!pinned.empty() && static_cast<Eigen::Index>(pinned.size()) != n) ||
-      reference_normals.rows() != triangles.rows())
+      reference_normals.rows() != triangles.rows() ||
+      (!options.crease_groups.empty() && static_cast<Eigen::Index>(options.crease_groups.size()) != triangles.rows()))
     throw EngineError(Status::internal_error, "polish_defects: sizes disagree");
 
   const Eigen::VectorXd defects = angle_defects(start, triangles, constrained);
@@ -368,12 +375,22 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   // few vertices), the polish runs on them alone: every trial step measures
   // its faces and defects, which on the whole of a 1M-face mesh cost more
   // than the steps themselves.
+  // With the crease guard on, also the faces across an edge from a face that
+  // can change, so that the guard sees every angle a step can open: those
+  // touching a vertex of such a face.
+  std::vector<bool> reached = region.rows;
+  if (options.crease_growth > 0.0)
+    for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+      const auto a = static_cast<size_t>(triangles(f, 0)), b = static_cast<size_t>(triangles(f, 1)),
+                 c = static_cast<size_t>(triangles(f, 2));
+      if (region.moves[a] || region.moves[b] || region.moves[c]) reached[a] = reached[b] = reached[c] = true;
+    }
   std::vector<Eigen::Index> faces;
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
     bool local = false;
     for (int c = 0; c < 3; ++c) {
       const auto v = static_cast<size_t>(triangles(f, c));
-      local = local || region.moves[v] || region.rows[v];
+      local = local || region.moves[v] || reached[v];
     }
     if (local) faces.push_back(f);
   }
@@ -412,8 +429,14 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     for (int c = 0; c < 3; ++c) local_triangles(i, c) = local_of[static_cast<size_t>(triangles(f, c))];
     local_normals.row(i) = reference_normals.row(f);
   }
+  PolishOptions local_options = options;
+  if (!options.crease_groups.empty()) {
+    local_options.crease_groups.resize(static_cast<size_t>(face_count));
+    for (Eigen::Index i = 0; i < face_count; ++i)
+      local_options.crease_groups[static_cast<size_t>(i)] = options.crease_groups[static_cast<size_t>(faces[static_cast<size_t>(i)])];
+  }
   PolishResult local = polish_region(local_start, local_reference, local_normals, local_triangles, local_region,
-                                     std::move(local_defects), options, progress);
+                                     std::move(local_defects), local_options, progress);
   PolishResult result = local;
   result.positions = start;
   for (Eigen::Index i = 0; i < m; ++i) result.positions.row(global_of[static_cast<size_t>(i)]) = local.positions.row(i);

@@ -62,6 +62,13 @@ struct PolishOptions {
   // mu may fall to Gauss-Newton's, which finishes quadratically.
   double spread_damping = 0.0;
   double spread_until = 1e-3;
+  // > 0: a step may not grow the angle between two faces of one group by
+  // more than this (rad) over `reference_normals`' (CreaseGuard in
+  // measures.h); such faces keep their corners, as those that turn over.
+  // crease_groups: one id per face (edges between groups are free), or
+  // empty for one group.
+  double crease_growth = 0.0;
+  std::vector<int> crease_groups;
 };
 
 struct PolishResult {

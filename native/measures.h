@@ -42,6 +42,35 @@ DefectStats defect_stats(const Eigen::VectorXd& defects, const std::vector<bool>
 //   normals, reference: one row per face (face_normals).
 std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference);
 
+// The crease guard: a deformation may bend the surface, but not crumple it.
+// It watches every edge between two faces of one group (a patch; edges on
+// a seam between groups may fold, that is where a piecewise developable
+// surface keeps its curvature) and reports the faces of those whose angle
+// between the face normals grew by more than `growth` (rad) over the
+// reference's. A doubly curved region made flat vertex by vertex crumples
+// into such creases (the face and the fingers of human_woman), which no
+// figure of the angle defect shows.
+//   triangles: a validated mesh; reference: its face normals (zero rows are
+//   not watched); groups: one id per face, or empty for one group;
+//   growth <= 0: the guard is off and reports nothing.
+class CreaseGuard {
+ public:
+  CreaseGuard(const Triangles& triangles, const Normals& reference, const std::vector<int>& groups, double growth);
+
+  bool active() const { return !edges_.empty(); }
+
+  // The faces of the watched edges creased at `normals` (face_normals of
+  // the same triangles), ascending and unique.
+  std::vector<Eigen::Index> creased_faces(const Normals& normals) const;
+
+ private:
+  struct Edge {
+    Eigen::Index f, g;
+    double limit;  // the reference angle plus the growth, rad
+  };
+  std::vector<Edge> edges_;
+};
+
 // Roughness of the normal field: the mean over the faces of the angle (rad)
 // between a face's unit normal and the normalised sum of its own and its
 // edge neighbours' normals. Noise raises it; a smooth surface's comes from

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <random>
 
@@ -97,6 +99,40 @@ TEST(Measures, TurnedOverFacesAreThoseMoreThan90DegreesOffOrCollapsed) {
   normals.row(1) = Eigen::RowVector3d(0, 1, -0.01).normalized();   // just past 90 degrees
   const std::vector<Eigen::Index> turned = turned_over_faces(normals, reference);
   EXPECT_EQ(turned, (std::vector<Eigen::Index>{1, 2}));
+}
+
+// CreaseGuard: a plane bent gently stays unreported; one vertex pushed out
+// of it creases the edges of its star; an edge between two groups may fold;
+// growth 0 switches the guard off.
+TEST(Measures, CreaseGuardReportsTheFacesOfEdgesThatSharpened) {
+  const auto m = test::plane(6, 6);
+  const Normals flat = face_normals(m.positions, m.triangles);
+  const CreaseGuard guard(m.triangles, flat, {}, 20.0 * M_PI / 180.0);
+  EXPECT_TRUE(guard.active());
+  Positions bent = m.positions;
+  for (Eigen::Index v = 0; v < bent.rows(); ++v) bent(v, 2) = 0.1 * bent(v, 0) * bent(v, 0);  // a gentle cylinder
+  EXPECT_TRUE(guard.creased_faces(face_normals(bent, m.triangles)).empty());
+
+  const Eigen::Index tip = 2 * 6 + 2;  // an interior vertex
+  Positions pushed = m.positions;
+  pushed(tip, 2) += 0.5;  // its star becomes a steep cone
+  const std::vector<Eigen::Index> creased = guard.creased_faces(face_normals(pushed, m.triangles));
+  ASSERT_FALSE(creased.empty());
+  EXPECT_TRUE(std::is_sorted(creased.begin(), creased.end()));
+  for (Eigen::Index f : creased) {
+    bool touches = false;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Index v = m.triangles(f, c);
+      touches = touches || (m.positions.row(v) - m.positions.row(tip)).norm() < 0.3;  // the star and its edge neighbours
+    }
+    EXPECT_TRUE(touches) << f;
+  }
+
+  // Every face its own group: no edge is watched.
+  std::vector<int> groups(static_cast<size_t>(m.triangles.rows()));
+  for (size_t f = 0; f < groups.size(); ++f) groups[f] = static_cast<int>(f);
+  EXPECT_FALSE(CreaseGuard(m.triangles, flat, groups, 0.3).active());
+  EXPECT_FALSE(CreaseGuard(m.triangles, flat, {}, 0.0).active());
 }
 
 // normal_roughness: zero on a plane, the cylinder's own from its curvature,

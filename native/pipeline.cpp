@@ -672,9 +672,9 @@ class TargetField {
 };
 
 // Step "step": one deformation step that cannot fold. A step that would
-// turn faces over (against the input's normals) or crease them (the crease
-// guard, on segmented meshes) is solved again with those
-// faces and their neighbours damped; what still turns over then keeps its
+// turn faces over (against the input's normals) is solved again with those
+// faces and their neighbours damped; what still turns over, and what the
+// step would crease (the crease guard, on segmented meshes), then keeps its
 // corners at their previous place, ring by ring. Thin triangles pull less
 // (sliver_trust). Damping only in the decoupled formulation, whose matrix
 // does not depend on omega.

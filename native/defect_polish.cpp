@@ -170,14 +170,15 @@ class DampedSystem {
 // that is flat but for a few vertices costs a system of their size.
 struct Region {
   std::vector<bool> moves;
-  std::vector<bool> rows;
+  std::vector<bool> reachable;  // the vertices of the faces that hold a moving vertex
+  std::vector<bool> rows;       // constrained and reachable
 };
 
 Region region_of(const Triangles& triangles, const std::vector<bool>& constrained, const std::vector<bool>& pinned,
                  const Eigen::VectorXd& defects, double active_defect) {
   const size_t n = constrained.size();
   auto is_free = [&](int v) { return pinned.empty() || !pinned[static_cast<size_t>(v)]; };
-  Region region{std::vector<bool>(n, false), std::vector<bool>(n, false)};
+  Region region{std::vector<bool>(n, false), std::vector<bool>(n, false), std::vector<bool>(n, false)};
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
     bool active = false;
     for (int c = 0; c < 3; ++c) {
@@ -192,6 +193,7 @@ Region region_of(const Triangles& triangles, const std::vector<bool>& constraine
         region.moves[static_cast<size_t>(triangles(f, 2))])
       for (int c = 0; c < 3; ++c) {
         const auto v = static_cast<size_t>(triangles(f, c));
+        region.reachable[v] = true;
         region.rows[v] = constrained[v];
       }
   }
@@ -297,12 +299,8 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
         // guard): their corners keep their place instead, ring by ring.
         bool folded = false;
         for (int round = 0;; ++round) {
-          const Normals trial_normals = face_normals(trial, triangles);
-          std::vector<Eigen::Index> turned = turned_over_faces(trial_normals, reference_normals);
-          if (crease_guard.active()) {
-            const std::vector<Eigen::Index> creased = crease_guard.creased_faces(trial_normals);
-            turned.insert(turned.end(), creased.begin(), creased.end());
-          }
+          const std::vector<Eigen::Index> turned =
+              folded_faces(face_normals(trial, triangles), reference_normals, crease_guard);
           if (turned.empty()) break;
           if (round == kRevertRounds) {
             folded = true;
@@ -377,14 +375,8 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   // than the steps themselves.
   // With the crease guard on, also the faces across an edge from a face that
   // can change, so that the guard sees every angle a step can open: those
-  // touching a vertex of such a face.
-  std::vector<bool> reached = region.rows;
-  if (options.crease_growth > 0.0)
-    for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-      const auto a = static_cast<size_t>(triangles(f, 0)), b = static_cast<size_t>(triangles(f, 1)),
-                 c = static_cast<size_t>(triangles(f, 2));
-      if (region.moves[a] || region.moves[b] || region.moves[c]) reached[a] = reached[b] = reached[c] = true;
-    }
+  // touching a reachable vertex.
+  const std::vector<bool>& reached = options.crease_growth > 0.0 ? region.reachable : region.rows;
   std::vector<Eigen::Index> faces;
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
     bool local = false;
@@ -413,13 +405,15 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   const auto face_count = static_cast<Eigen::Index>(faces.size());
   Positions local_start(m, 3), local_reference(m, 3);
   Eigen::VectorXd local_defects(m);
-  Region local_region{std::vector<bool>(static_cast<size_t>(m)), std::vector<bool>(static_cast<size_t>(m))};
+  Region local_region{std::vector<bool>(static_cast<size_t>(m)), std::vector<bool>(static_cast<size_t>(m)),
+                      std::vector<bool>(static_cast<size_t>(m))};
   for (Eigen::Index i = 0; i < m; ++i) {
     const Eigen::Index v = global_of[static_cast<size_t>(i)];
     local_start.row(i) = start.row(v);
     local_reference.row(i) = reference.row(v);
     local_defects[i] = defects[v];
     local_region.moves[static_cast<size_t>(i)] = region.moves[static_cast<size_t>(v)];
+    local_region.reachable[static_cast<size_t>(i)] = region.reachable[static_cast<size_t>(v)];
     local_region.rows[static_cast<size_t>(i)] = region.rows[static_cast<size_t>(v)];
   }
   Triangles local_triangles(face_count, 3);
@@ -435,11 +429,11 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     for (Eigen::Index i = 0; i < face_count; ++i)
       local_options.crease_groups[static_cast<size_t>(i)] = options.crease_groups[static_cast<size_t>(faces[static_cast<size_t>(i)])];
   }
-  PolishResult local = polish_region(local_start, local_reference, local_normals, local_triangles, local_region,
-                                     std::move(local_defects), local_options, progress);
-  PolishResult result = local;
-  result.positions = start;
-  for (Eigen::Index i = 0; i < m; ++i) result.positions.row(global_of[static_cast<size_t>(i)]) = local.positions.row(i);
+  PolishResult result = polish_region(local_start, local_reference, local_normals, local_triangles, local_region,
+                                      std::move(local_defects), local_options, progress);
+  Positions positions = start;
+  for (Eigen::Index i = 0; i < m; ++i) positions.row(global_of[static_cast<size_t>(i)]) = result.positions.row(i);
+  result.positions = std::move(positions);
   return result;
 }
 

@@ -5,7 +5,6 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 namespace developable {
@@ -166,30 +165,16 @@ double angle_between(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b) {
 
 CreaseGuard::CreaseGuard(const Triangles& triangles, const Normals& reference, const std::vector<int>& groups,
                          double growth) {
-  if (!(growth > 0.0)) return;
-  // Edges as (low vertex, high vertex, face); an edge of exactly two faces is watched.
-  std::vector<std::array<Eigen::Index, 3>> sides;
-  sides.reserve(static_cast<size_t>(3 * triangles.rows()));
+  if (!(growth > 0.0) || triangles.rows() == 0) return;
+  const VertexFaces table = vertex_faces(triangles, triangles.maxCoeff() + 1);
   for (Eigen::Index f = 0; f < triangles.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
-      const Eigen::Index a = triangles(f, k), b = triangles(f, (k + 1) % 3);
-      sides.push_back({std::min(a, b), std::max(a, b), f});
-    }
-  std::sort(sides.begin(), sides.end());
-  const auto same_edge = [&](size_t i, size_t j) {
-    return j < sides.size() && sides[i][0] == sides[j][0] && sides[i][1] == sides[j][1];
-  };
-  for (size_t i = 0; i < sides.size();) {
-    size_t next = i + 1;
-    while (same_edge(i, next)) ++next;
-    if (next == i + 2) {
-      const Eigen::Index f = sides[i][2], g = sides[i + 1][2];
+      const int g = face_across(table, triangles, static_cast<int>(f), triangles(f, k), triangles(f, (k + 1) % 3));
+      if (g <= f) continue;  // a boundary edge, or seen from g
       const bool one_group = groups.empty() || groups[static_cast<size_t>(f)] == groups[static_cast<size_t>(g)];
       if (one_group && reference.row(f).squaredNorm() > 0.0 && reference.row(g).squaredNorm() > 0.0)
         edges_.push_back({f, g, angle_between(reference.row(f), reference.row(g)) + growth});
     }
-    i = next;
-  }
 }
 
 std::vector<Eigen::Index> CreaseGuard::creased_faces(const Normals& normals) const {
@@ -199,6 +184,16 @@ std::vector<Eigen::Index> CreaseGuard::creased_faces(const Normals& normals) con
       faces.push_back(e.f);
       faces.push_back(e.g);
     }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard) {
+  std::vector<Eigen::Index> faces = turned_over_faces(normals, reference);
+  if (!guard.active()) return faces;
+  const std::vector<Eigen::Index> creased = guard.creased_faces(normals);
+  faces.insert(faces.end(), creased.begin(), creased.end());
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
   return faces;

@@ -71,6 +71,10 @@ class CreaseGuard {
   std::vector<Edge> edges_;
 };
 
+// The faces a step must put back: those turned over against `reference`
+// (turned_over_faces) and those `guard` finds creased, ascending and unique.
+std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard);
+
 // Roughness of the normal field: the mean over the faces of the angle (rad)
 // between a face's unit normal and the normalised sum of its own and its
 // edge neighbours' normals. Noise raises it; a smooth surface's comes from

@@ -713,7 +713,7 @@ class FoldSafeStep {
     }
     // Creased faces are only put back (solving again around them cost the
     // mountain 3 times the iteration time).
-    turned = folded_faces(proposal_normals);
+    if (crease_guard_.active()) turned = folded_faces(proposal_normals, input_normals_, crease_guard_);
     for (int round = 0; !turned.empty(); ++round) {
       if (round == kFoldRevertRounds) {
         proposal = current;
@@ -723,7 +723,7 @@ class FoldSafeStep {
       for (Eigen::Index f : turned)
         for (int c = 0; c < 3; ++c) proposal.row(triangles_(f, c)) = current.row(triangles_(f, c));
       proposal_normals = face_normals(proposal, triangles_);
-      turned = folded_faces(proposal_normals);
+      turned = folded_faces(proposal_normals, input_normals_, crease_guard_);
       ++retries;
     }
     current = std::move(proposal);
@@ -736,18 +736,6 @@ class FoldSafeStep {
   }
 
  private:
-  // Faces turned over against the input's normals, and those creased
-  // (crease_guard_), ascending and unique.
-  std::vector<Eigen::Index> folded_faces(const Normals& normals) const {
-    std::vector<Eigen::Index> faces = turned_over_faces(normals, input_normals_);
-    if (!crease_guard_.active()) return faces;
-    const std::vector<Eigen::Index> creased = crease_guard_.creased_faces(normals);
-    faces.insert(faces.end(), creased.begin(), creased.end());
-    std::sort(faces.begin(), faces.end());
-    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-    return faces;
-  }
-
   Positions propose(const Positions& current, const Normals& normals) const {
     Positions next = mode_ == Mode::refit ? deformation_.step(current, normals) : deformation_.step(current);
     if (limit_ > 0.0) clamp_to_tolerance(next, input_, limit_);

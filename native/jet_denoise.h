@@ -6,9 +6,11 @@
 // the quadric height field z = a x^2 + b xy + c y^2 + d x + e y + f fitted to
 // that two-ring by least squares (an osculating jet of degree 2, as CGAL's
 // jet_smooth_point_set does on point sets, here on the mesh's rings rather
-// than k nearest points, so that the two sides of a thin part never mix).
-// A noise-free smooth surface moves by the third-order terms only; a vertex
-// whose noise is white moves back by most of it.
+// than k nearest points, so that the two sides of a thin part never mix),
+// the ring's vertices weighed by a Gaussian of their distance (sigma = sqrt 2
+// times the ring's RMS radius). A noise-free smooth surface moves by the
+// third-order terms only, the far vertices' most, hence the weights; a
+// vertex whose noise is white moves back by most of it.
 #pragma once
 
 #include "mesh_connectivity.h"

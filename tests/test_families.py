@@ -10,8 +10,8 @@ result says unchanged. Then the issue's bounds where the engine meets them
     each run's mean |defect| down at least 98 % (their median at least
     99 %), at least 95 % of the interior vertices flat (|defect| < 1e-3 rad);
   - and, for cylinders, cones, tangent developables of helices and twisted
-    cubics, generalized cylinders, bent sheets and planes on grids, the
-    Hausdorff distance to the
+    cubics, generalized cylinders and cones, bent sheets and planes on
+    grids, the Hausdorff distance to the
     noise-free twin at most 1.5 times the input's (the noise removed, not the
     shape changed);
   - curved folds: at least 95 % flat and the mean down at least 90 %;
@@ -19,10 +19,10 @@ result says unchanged. Then the issue's bounds where the engine meets them
     down at least 95 %; and for cone patches, tangent developables of
     helices and twisted cubics, and planes, the same distance bound.
 The Hausdorff ratio of the other families is above the issue's 1.5 on some
-seeds (wavy generalized cones, random-curve tangent developables, curved
-folds: up to twice the noise on grids, and single seeds of cylinder patches
-and bands, cone bands and bent sheets on irregular triangulations, more on
-the irregular wavy ones);
+seeds (random-curve tangent developables and curved folds: up to twice the
+noise on grids, and single seeds of cylinder patches and bands, cone bands
+and bent sheets on irregular triangulations, more on the irregular wavy
+ones);
 each family's median is held to today's with room, so that a change that
 moves the shape more fails here.
 """
@@ -41,14 +41,14 @@ import native  # noqa: E402
 SEEDS = range(100, 103)
 GRIDS = ("grid", "alternating")
 SHAPE_KEPT = ("cylinder_patch", "cylinder_band", "cone_patch", "cone_band", "tangent_helix", "tangent_cubic",
-              "generalized_cylinder", "bent_sheet", "plane")
+              "generalized_cylinder", "generalized_cone", "bent_sheet", "plane")
 SHAPE_KEPT_IRREGULAR = ("cone_patch", "tangent_helix", "tangent_cubic", "plane")
 # family -> the largest median Hausdorff ratio accepted: today's median
 # (docs/families.md) times 1.5, at least 1.5.
 MEDIAN_RATIO = {
     "cylinder_patch": 1.5, "cylinder_band": 1.5, "cone_patch": 1.5, "cone_band": 1.5,
     "tangent_helix": 1.6, "tangent_cubic": 1.5, "tangent_random": 2.0,
-    "generalized_cylinder": 1.5, "generalized_cone": 2.0, "bent_sheet": 1.5,
+    "generalized_cylinder": 1.5, "generalized_cone": 1.8, "bent_sheet": 1.5,
     "curved_fold": 1.7, "plane": 1.5,
 }
 

@@ -181,18 +181,22 @@ def verdict(obj_name, stats, fig):
         worse.append("the mean curvature grew (%+.1f %%)" % stats["change_percent"])
     if fig["flat_after"] < fig["flat_before"]:
         worse.append("fewer vertices are flat (%s)" % flat)
+    m0, m1 = stats["max_defect_before"], stats["max_defect_after"]
+    peaked = m1 > m0 * (1.0 + 1e-9)
+    if peaked:
+        worse.append("the largest curvature grew (%.3g → %.3g rad)" % (m0, m1))
     if fig["faces_turned"] > 0:
         worse.append(plural(fig["faces_turned"], "face turned over", "faces turned over"))
     if worse:
         tips = []
         if fig["faces_turned"] > 0:
             tips.append("a smaller 'Shape May Move' or Pin Boundary")
-        if e1 > e0 and fig["flat_after"] > fig["flat_before"]:
+        if (e1 > e0 or peaked) and fig["flat_after"] > fig["flat_before"]:
             # A closed surface keeps its total curvature (Gauss-Bonnet): flat
             # pieces gather it on their seams, where it no longer cancels.
             tips.append("setting the key to 1 if flat pieces are what you want (a closed surface "
                         "keeps its total curvature; it gathered on the seams)")
-        elif e1 > e0 or fig["flat_after"] < fig["flat_before"]:
+        elif e1 > e0 or peaked or fig["flat_after"] < fig["flat_before"]:
             tips.append("the job 'Whole object into pieces' (a closed or doubly curved object "
                         "cannot flatten as one piece)")
         engine = " Engine: %s" % engine_said.rstrip() if engine_said else ""

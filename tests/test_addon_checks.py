@@ -89,7 +89,7 @@ def test_figures_of_a_result():
 
 
 STATS = {"mean_defect_before": 0.01, "mean_defect_after": 0.002, "change_percent": -80.0,
-         "time_total_ms": 12.0, "stop_reason": 3}
+         "max_defect_before": 0.05, "max_defect_after": 0.01, "time_total_ms": 12.0, "stop_reason": 3}
 FIG = {"flat_before": 0.1, "flat_after": 0.6, "move_percent": 1.5, "faces_turned": 0,
        "max_move": 0.02, "size": 1.0}
 
@@ -104,6 +104,8 @@ def test_an_improvement_is_info():
     ({"mean_defect_after": 0.0104, "change_percent": 4.4}, {}, "curvature grew (+4.4 %)"),
     ({}, {"flat_after": 0.05}, "fewer vertices are flat"),
     ({}, {"faces_turned": 3}, "3 faces turned over"),
+    # the engine's own warning: its mean fell, but its curvature gathered
+    ({"max_defect_before": 3.73, "max_defect_after": 8.4}, {}, "largest curvature grew (3.73 → 8.4 rad)"),
 ])
 def test_a_worse_figure_is_a_warning_with_what_to_try(change, fig, words):
     level, verdict, message = checks.verdict("torus", dict(STATS, **change), dict(FIG, **fig))

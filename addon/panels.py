@@ -81,6 +81,15 @@ def length_text(context, value):
         return "%.3g" % value
 
 
+def line_chars(context, margin=40):
+    """How many characters of the UI font fit on a line of the sidebar as it
+    is now (about 6.8 pixels each at UI scale 1; `margin` pixels for the
+    panel's and a box's borders): the lines are wrapped to it, never cut
+    with an ellipsis."""
+    scale = context.preferences.system.ui_scale
+    return max(16, int((context.region.width - margin * scale) / (6.8 * scale)))
+
+
 def wrap(text, width=34):
     words, line, lines = text.split(), "", []
     for w in words:
@@ -216,7 +225,7 @@ class VIEW3D_PT_developable(Panel):
         if lib is None:
             col = layout.column(align=True)
             col.alert = True
-            for i, line in enumerate(wrap(library_message(err))):
+            for i, line in enumerate(wrap(library_message(err), line_chars(context, 60))):
                 col.label(text=line, icon='ERROR' if i == 0 else 'BLANK1')
         settings = context.scene.developable
         draw_main(layout, settings, context)
@@ -233,7 +242,7 @@ class VIEW3D_PT_developable(Panel):
             layout.label(text="Select a mesh object", icon='INFO')
         elif context.mode not in {'OBJECT', 'EDIT_MESH'}:
             for i, line in enumerate(wrap("Works in Object or Edit mode: leave %s mode first"
-                                          % context.mode.replace("_", " ").title())):
+                                          % context.mode.replace("_", " ").title(), line_chars(context, 60))):
                 layout.label(text=line, icon='INFO' if i == 0 else 'BLANK1')
         if context.mode == 'EDIT_MESH' and settings.pin_selection:
             layout.label(text="Selected vertices stay put", icon='PINNED')
@@ -288,7 +297,8 @@ def draw_result(layout, context, obj):
                     'UNCHANGED': "Nothing changed"}[rec.verdict], icon=icon)
     if rec.verdict != 'IMPROVED':
         box = layout.box().column(align=True)
-        for line in wrap(rec.message.split(" [")[0], 38):
+        # The figures in brackets and the engine's words have lines of their own below.
+        for line in wrap(rec.message.split(" [")[0].split(" Engine: ")[0], line_chars(context, 50)):
             box.label(text=line)
     col = layout.column(align=True)
     col.label(text="Flat vertices: %s \u2192 %s" % (_pct(rec.flat_before), _pct(rec.flat_after)))
@@ -309,7 +319,7 @@ def draw_result(layout, context, obj):
     col.label(text="Stopped: %s" % rec.stop_reason)
     col.label(text="Pieces: %d; pinned: %d" % (rec.patches, rec.pinned))
     if rec.engine_result:
-        for i, line in enumerate(wrap("Engine check: " + rec.engine_result, 38)):
+        for i, line in enumerate(wrap("Engine check: " + rec.engine_result, line_chars(context))):
             col.label(text=line)
     if rec.world_space:
         col.label(text="In world space (object scale)", icon='OBJECT_ORIGIN')
@@ -358,7 +368,7 @@ class VIEW3D_PT_developable_result(Panel):
             keys = obj.data.shape_keys
             if keys and keys.key_blocks.get(writeback.SHAPE_KEY) and obj.data.users > 1:
                 for line in wrap("This mesh is shared: it was made developable through "
-                                 "another object, whose panel has the figures"):
+                                 "another object, whose panel has the figures", line_chars(context)):
                     layout.label(text=line)
             else:
                 layout.label(text="No run on this object yet")

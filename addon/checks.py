@@ -157,6 +157,11 @@ def plural(n, one, many):
     return "%d %s" % (n, one if n == 1 else many)
 
 
+# Where a warning quotes the engine's own check (the panel shows that on a line
+# of its own and cuts the warning there).
+ENGINE_WORDS = " Engine: "
+
+
 def verdict(obj_name, stats, fig):
     """(report level 'INFO' or 'WARNING', verdict 'IMPROVED' / 'WORSE' /
     'UNCHANGED', message): a warning when a figure got worse or nothing
@@ -199,7 +204,7 @@ def verdict(obj_name, stats, fig):
         elif e1 > e0 or peaked or fig["flat_after"] < fig["flat_before"]:
             tips.append("the job 'Whole object into pieces' (a closed or doubly curved object "
                         "cannot flatten as one piece)")
-        engine = " Engine: %s" % engine_said.rstrip() if engine_said else ""
+        engine = "%s%s" % (ENGINE_WORDS, engine_said.rstrip()) if engine_said else ""
         return 'WARNING', 'WORSE', (
             "%s got worse: %s. The result is kept in the shape key 'Developable' at 0 (slide it "
             "to look). Try %s.%s [%s]" % (obj_name, "; ".join(worse), " or ".join(tips), engine,

@@ -9,7 +9,7 @@ a long label goes on its own line above its field."""
 import bpy
 from bpy.types import Panel
 
-from . import gauss_image, native, writeback
+from . import checks, gauss_image, native, writeback
 from .operators import MESH_OT_make_developable, library_message
 
 CATEGORY = "Developable"
@@ -298,7 +298,7 @@ def draw_result(layout, context, obj):
     if rec.verdict != 'IMPROVED':
         box = layout.box().column(align=True)
         # The figures in brackets and the engine's words have lines of their own below.
-        for line in wrap(rec.message.split(" [")[0].split(" Engine: ")[0], line_chars(context, 50)):
+        for line in wrap(rec.message.split(" [")[0].split(checks.ENGINE_WORDS)[0], line_chars(context, 50)):
             box.label(text=line)
     col = layout.column(align=True)
     col.label(text="Flat vertices: %s \u2192 %s" % (_pct(rec.flat_before), _pct(rec.flat_after)))

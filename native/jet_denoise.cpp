@@ -13,12 +13,14 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr size_t kMinRing = 9;
-// The fit's Gaussian weights, exp(-r^2 / kWeightScale) with r in RMS radii
-// of the two-ring (sigma = sqrt(2) RMS radii). Unweighted, a noise-free
-// wavy generalized cone moved by up to 1.32 times the noise it had to
-// remove (0.27 on average), weighted 1.10 (0.22). On the families (bench/families.py, mean log Hausdorff ratio to
-// the twin): tuning seeds 0-5 0.052 -> 0.046, 6-9 0.051 -> 0.035, held-out
-// 100-102 0.031 -> 0.025; 2 and 8 did less on the seeds 6-9 and 100-102
+// The fit's Gaussian weights, exp(-r^2 / kWeightScale) with r the distance
+// over the plane in RMS radii of the two-ring (sigma = sqrt 2 RMS radii):
+// the far vertices carry the third-order terms a quadric cannot follow.
+// Unweighted, a noise-free wavy generalized cone moved by up to 1.32 times
+// the noise it had to remove (0.27 on average), weighted 1.10 (0.22). On
+// the families (bench/families.py, mean log Hausdorff ratio to the twin):
+// tuning seeds 0-5 0.052 -> 0.046, 6-9 0.051 -> 0.035, held-out 100-102
+// 0.031 -> 0.025; scales 2 and 8 did less on seeds 6-9 and 100-102
 // (docs/method.md, "Smoothed input").
 constexpr double kWeightScale = 4.0;
 
@@ -78,10 +80,8 @@ Positions jet_denoise(const Positions& positions, const Triangles& triangles, co
     });
     if (feature) continue;
 
-    // The height field over the plane, in v's frame: f is v's height on it.
-    // Each row weighs exp(-r^2 / kWeightScale), r the distance over the
-    // plane in RMS radii: the far vertices carry the third-order terms a
-    // quadric cannot follow.
+    // The height field over the plane, in v's frame (f is v's height on
+    // it), each row weighed (kWeightScale).
     Eigen::MatrixXd design(m, 6);
     Eigen::VectorXd height(m);
     for (Eigen::Index i = 0; i < m; ++i) {

@@ -136,19 +136,17 @@ constexpr std::ptrdiff_t kLeastMoveVertices = 3000;
 // developable 2.97 -> 0.94 times the noise from its twin for one polish more.
 constexpr std::ptrdiff_t kSmoothedStepVertices = 10000;
 // Where the smoothing moved the input by less than this share of what the
-// result moved it (RMS), the raw input stands for the smoothed one: the two
+// result moved it (RMS), on meshes that have the raw input's candidate
+// (kLeastMoveVertices), the raw input stands for both smoothed starts: the
 // polishes would compete on a difference of motion that small, and a
-// noise-free mesh (the benchmark's curved cone: 1 %) paid a polish more for
-// it; it stands for the smoothed start after one step too (the curved
-// cone: 10 ms less, and on the families' seeds 0-5 and 100-102 one run
-// changes, by 0.01 of its Hausdorff ratio). The raw one, because a
-// smoothing that moves so little has little noise to take off but can
-// still cut a wave its quadrics do not follow: a
-// wavy generalized cone of 0.8 % noise (3.4 %) came back 2.04 times the
-// noise from its twin from the smoothed start, 1.01 from the raw one, a
-// twisted cubic on slivers (3.2 %) 13.9 and 1.5. The curved cone's raw
-// polish moves it less, in 5 steps instead of 7. No other family result
-// changes (seeds 0-9 and 100-102).
+// noise-free mesh (the benchmark's curved cone: 1 %) paid two polishes more
+// for it (10 ms). The raw one, because a smoothing that moves so little has
+// little noise to take off but can still cut a wave its quadrics do not
+// follow: a wavy generalized cone of 0.8 % noise (3.4 %) came back 2.04
+// times the noise from its twin from the smoothed start, 1.01 from the raw
+// one, a twisted cubic on slivers (3.2 %) 13.9 and 1.5; the curved cone's
+// raw polish moves it less, in 5 steps instead of 7. One other family run
+// changes, by 0.01 of its ratio (seeds 0-9 and 100-102).
 constexpr double kSameStartShare = 0.05;
 
 // How much a closed mesh's mean |defect| may grow (fraction) in exchange for
@@ -1110,7 +1108,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     // of its size for flat vertices.
     if (improved || !piecewise) {
       polish_options.crease_growth = crease_growth;
-      if (crease_growth > 0.0) polish_options.crease_groups = result.patch_ids;
+      polish_options.crease_groups = result.patch_ids;
     }
     // Without a better iterate the polish starts from the input (and the
     // nearly-flat polish then finishes that).
@@ -1185,12 +1183,10 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         const double smoothing_move = rms_move(smoothed, positions);
         if (least_motion.move() > kShapeChangeMove * smoothing_move)
           least_motion.set_shape_roughness(normal_roughness(face_normals(smoothed, triangles), triangles, connectivity));
-        // Where the raw input stands for the smoothed one (kSameStartShare),
-        // it stands for the stepped one too: the two polishes of starts that
-        // near the input cost the curved cone 10 ms and never won.
+        // The raw input stands for both smoothed starts (kSameStartShare).
         const bool same_start = all_candidates && smoothing_move < kSameStartShare * least_motion.move();
-        if (all_candidates && !same_start) starts.push_back({smoothed, true});
         if (!same_start) {
+          if (all_candidates) starts.push_back({smoothed, true});
           Normals smoothed_normals = face_normals(smoothed, triangles);
           targets.refit(smoothed, smoothed_normals);
           deformation.set_targets(targets.targets());

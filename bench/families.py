@@ -94,12 +94,15 @@ def main():
     ap.add_argument("--seeds", default="100-102", help="first-last (inclusive)")
     ap.add_argument("--families", default=",".join(families.FAMILIES))
     ap.add_argument("--triangulations", default=",".join(families.TRIANGULATIONS))
+    ap.add_argument("--faces", default="500-5000",
+                    help="first-last face count, drawn log-uniform per seed (the issue's range: 500-50000)")
     ap.add_argument("--label", default="this build")
     ap.add_argument("--json", help="also write the raw figures here")
     ap.add_argument("--write", help="markdown file whose block between the markers "
                     "<!-- families:LABEL --> ... <!-- /families:LABEL --> gets the table")
     args = ap.parse_args()
     first, last = (int(x) for x in args.seeds.split("-"))
+    face_range = tuple(int(x) for x in args.faces.split("-"))
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
@@ -109,11 +112,12 @@ def main():
                     continue
                 runs = []
                 for seed in range(first, last + 1):
-                    mesh = families.random_case(family, seed, triangulations=[triangulation])
+                    mesh = families.random_case(family, seed, faces=face_range,
+                                                triangulations=[triangulation])
                     runs.append(measure(mesh, args.tool, work))
                 results[(family, triangulation)] = runs
                 print(" | ".join(rows_of({(family, triangulation): runs})[0]), flush=True)
-    text = table(rows_of(results), "%s (seeds %s, defaults)" % (args.label, args.seeds))
+    text = table(rows_of(results), "%s (seeds %s, %s faces, defaults)" % (args.label, args.seeds, args.faces))
     print(text)
     if args.json:
         pathlib.Path(args.json).write_text(json.dumps(

@@ -69,6 +69,11 @@ struct PolishOptions {
   // empty for one group.
   double crease_growth = 0.0;
   std::vector<int> crease_groups;
+  // > 0: the polish gives up (PolishResult::gave_up) once a kept step leaves
+  // the vertices farther from `reference` than this, RMS over the whole mesh
+  // (caller's units): least motion's candidates win only by moving less than
+  // the result, and past it they had lost.
+  double give_up_move = 0.0;
 };
 
 struct PolishResult {
@@ -76,6 +81,7 @@ struct PolishResult {
   int iterations = 0;           // steps kept
   double residual_before = 0.0; // RMS of K over the constrained vertices at the start, rad
   double residual_after = 0.0;  // the same at the end
+  bool gave_up = false;         // stopped by options.give_up_move; `positions` is where it was
 };
 
 // The angle-defect polish.

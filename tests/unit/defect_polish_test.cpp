@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace developable {
@@ -139,6 +140,56 @@ TEST(DefectPolish, ALocalDefectIsPolishedOnItsNeighbourhood) {
   EXPECT_EQ(local.iterations, whole.iterations);
   for (Eigen::Index i = 0; i < cut_n; ++i)
     EXPECT_TRUE(local.positions.row(i) == whole.positions.row(global_of[static_cast<size_t>(i)])) << i;
+}
+
+double rms_distance(const Positions& a, const Positions& b) {
+  return std::sqrt((a - b).rowwise().squaredNorm().mean());
+}
+
+// give_up_move: a polish that has moved the mesh farther from its reference
+// than the limit (RMS over the whole mesh) stops there, said; one with room
+// runs as without it.
+TEST(DefectPolish, GivesUpOnceItHasMovedTheMeshTooFar) {
+  const auto m = noisy_cylinder(0.01, 3);
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  const PolishResult full =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, PolishOptions{}, Progress{});
+  const double moved = rms_distance(full.positions, m.positions);
+  ASSERT_GT(full.iterations, 1);
+  ASSERT_GT(moved, 0.0);
+  PolishOptions tight, loose;
+  tight.give_up_move = 0.5 * moved;
+  loose.give_up_move = 2.0 * moved;
+  const PolishResult stopped =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, tight, Progress{});
+  EXPECT_TRUE(stopped.gave_up);
+  EXPECT_LT(stopped.iterations, full.iterations);
+  EXPECT_GT(rms_distance(stopped.positions, m.positions), tight.give_up_move);
+  const PolishResult same =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, loose, Progress{});
+  EXPECT_FALSE(same.gave_up);
+  EXPECT_EQ(same.positions, full.positions);
+}
+
+// On a submesh the vertices outside it count too: a reference offset from
+// the whole mesh by d puts every vertex about d away, so a limit just under
+// d is passed at the first step, though the bump's few vertices alone would
+// be far under it.
+TEST(DefectPolish, GivingUpCountsTheVerticesOutsideTheSubmesh) {
+  auto m = test::cylinder(16, 48);
+  m.positions.row(8 * 48 + 20) *= 1.01;
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  const double d = 1e-3;
+  Positions reference = m.positions;
+  reference.col(2).array() += d;
+  PolishOptions options;
+  options.give_up_move = 0.999 * d;
+  const PolishResult r =
+      polish_defects(m.positions, reference, normals, m.triangles, interior, {}, options, Progress{});
+  EXPECT_TRUE(r.gave_up);
+  EXPECT_EQ(r.iterations, 1);
 }
 
 TEST(DefectPolish, ConjugateGradientsAboveTheDirectRowsAgree) {

@@ -125,10 +125,9 @@ typedef struct dev_params {
                                  (default: on in DEV_MODE_REFIT, off in DEV_MODE_PAPER), 0 off, 1 on. */
   /* ABI 6: */
   int32_t polish_smoothed_input; /* nonzero: where the polish of the input competes with the
-                                   deformation's result (meshes of up to 3000 scored vertices), the
+                                   deformation's result (meshes of up to 25000 scored vertices), the
                                    polish of the input with its noise smoothed (local quadric fits),
-                                   and of that after one deformation step, compete too; the last one
-                                   also on meshes of up to 10000 scored vertices. Default 1. */
+                                   and of that after one deformation step, compete too. Default 1. */
 } dev_params;
 
 typedef struct dev_stats {

@@ -77,8 +77,13 @@ constexpr double kSecondPhaseMove = 2.0;
 // when the input is nearly flat. Larger meshes keep the absolute threshold,
 // as the system then grows with the mesh (100k faces: polish 0.6 s instead
 // of 5.8 s, -99.3 % instead of -99.8 % on the benchmark's noisy cylinder).
+// The limit is least motion's (kLeastMoveVertices, about 50k faces): at
+// 20000 a 46k-face bent sheet whose noise left every vertex flat (mean
+// |defect| 8e-5 rad) was not polished, so its candidates had nothing to
+// compete with and the deformation's moves stayed (4.2 times the noise from
+// its twin, -92.7 %).
 constexpr double kPolishActiveShare = 0.005;
-constexpr std::ptrdiff_t kPolishDirectVertices = 20000;
+constexpr std::ptrdiff_t kPolishDirectVertices = 25000;
 // The second polish works on the scored vertices whose |defect| is below
 // this (rad; ten times the flat threshold) and leaves the rest to take up
 // the curvature (run_pipeline). On human_woman 0.003 / 0.01 / 0.03 / 0.1
@@ -125,19 +130,23 @@ constexpr double kShapeChangeMove = 4.0;
 // (damped too, spot lost 63 -> 58 % flat). docs/method.md, "Damped polishes
 // of the input".
 constexpr double kInputPolishDamping = 1e-3;
-// Meshes of up to this many scored vertices have all of least motion's
-// candidates (run_pipeline): the polish of a raw or smoothed noisy input
-// refactors its system at each of some 15-30 steps (a 10k-face noisy grid:
-// +1.2 s for the raw one), which larger meshes do not pay ...
-constexpr std::ptrdiff_t kLeastMoveVertices = 3000;
-// ... and meshes of up to this many only the last, most often winning one
-// (the polish of the smoothed input after one step; 56 of 141 tuning runs
-// against 22 and 22 for the other two): a 20k-face noisy tangent
-// developable 2.97 -> 0.94 times the noise from its twin for one polish more.
-constexpr std::ptrdiff_t kSmoothedStepVertices = 10000;
+// Meshes of up to this many scored vertices (about 50k faces, the top of
+// issue 11's range) have least motion's candidates (run_pipeline). Above,
+// their polishes would cost more than the rest of the run (a 100k-face noisy
+// cylinder: 1.6 s in all). Below it they are what keeps the shape: on 10k
+// to 50k faces without them (the limit was 3000, then 10000 for one
+// candidate) held-out family runs on grids ended up to 41 times the noise
+// from their twins (random-curve tangent developables), with them at most
+// 1.46 (docs/families.md, "Larger meshes"); the price is seconds (35k-50k
+// faces: median run 5.8 -> 14.7 s).
+constexpr std::ptrdiff_t kLeastMoveVertices = 25000;
+// The candidates' polishes solve their damped systems by conjugate gradients
+// above this many rows: held at mu >= kInputPolishDamping the system is well
+// conditioned, and the sparse factor of J J^T fills in (two rings), so on a
+// 19k-row noisy plane their three polishes took 21 s factored, 4.7 s so.
+constexpr int kCandidateDirectRows = 3000;
 // Where the smoothing moved the input by less than this share of what the
-// result moved it (RMS), on meshes that have the raw input's candidate
-// (kLeastMoveVertices), the raw input stands for both smoothed starts: the
+// result moved it (RMS), the raw input stands for both smoothed starts: the
 // polishes would compete on a difference of motion that small, and a
 // noise-free mesh (the benchmark's curved cone: 1 %) paid two polishes more
 // for it (10 ms). The raw one, because a smoothing that moves so little has
@@ -1117,11 +1126,9 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     if (scored_count <= kPolishDirectVertices)
       polish_options.active_defect = std::min(polish_options.active_defect, kPolishActiveShare * before.mean_abs);
     const auto polish_start = Clock::now();
-    const bool all_candidates = improved && scored_count <= kLeastMoveVertices;
-    const bool stepped_candidate =
-        improved && options.polish_smoothed_input && scored_count <= kSmoothedStepVertices;
+    const bool candidates = improved && scored_count <= kLeastMoveVertices;
     // Progress: the polish, then the nearly flat ones, then the candidates.
-    const double polish_end = all_candidates || stepped_candidate ? 0.97 : 1.0;
+    const double polish_end = candidates ? 0.97 : 1.0;
     const double polish_mid = 0.5 * (0.95 + polish_end);
     const PolishResult polished =
         polish_defects(result.positions, positions, normals_before, triangles, scored, pinned, polish_options,
@@ -1162,31 +1169,31 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         }
       }
     }
-    if (all_candidates || stepped_candidate) {
+    if (candidates) {
       // Least motion's candidates, each returned if it wins: the polish of
       // the input; of the input with its noise smoothed (jet_denoise.h,
       // within the limit); and of that after one deformation step toward
       // targets refit on it, which takes off the noise the smoothing left
-      // in the normals (docs/method.md, "Smoothed input"). Larger meshes
-      // have the last one only.
+      // in the normals (docs/method.md, "Smoothed input"). The last two
+      // only with options.polish_smoothed_input.
       struct Start {
         Positions positions;
         bool smoothed;
       };
       std::vector<Start> starts;
-      if (all_candidates) starts.push_back({positions, false});
+      starts.push_back({positions, false});
       LeastMotion least_motion(positions, triangles, connectivity, before, result.positions,
                                developability_of(stats));
-      if (stepped_candidate) {
+      if (options.polish_smoothed_input) {
         Positions smoothed = jet_denoise(positions, triangles, connectivity, pinned);
         if (limit > 0.0) clamp_to_tolerance(smoothed, positions, limit);
         const double smoothing_move = rms_move(smoothed, positions);
         if (least_motion.move() > kShapeChangeMove * smoothing_move)
           least_motion.set_shape_roughness(normal_roughness(face_normals(smoothed, triangles), triangles, connectivity));
         // The raw input stands for both smoothed starts (kSameStartShare).
-        const bool same_start = all_candidates && smoothing_move < kSameStartShare * least_motion.move();
+        const bool same_start = smoothing_move < kSameStartShare * least_motion.move();
         if (!same_start) {
-          if (all_candidates) starts.push_back({smoothed, true});
+          starts.push_back({smoothed, true});
           Normals smoothed_normals = face_normals(smoothed, triangles);
           targets.refit(smoothed, smoothed_normals);
           deformation.set_targets(targets.targets());
@@ -1195,6 +1202,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         }
       }
       polish_options.spread_damping = kInputPolishDamping;
+      polish_options.direct_rows = kCandidateDirectRows;
       for (size_t k = 0; k < starts.size(); ++k) {
         // A candidate wins only by moving the mesh less than the result: a
         // smoothed start already farther is not polished (the benchmark's
@@ -1202,10 +1210,11 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         // the families' held-out seeds no result changes).
         if (rms_move(starts[k].positions, positions) >= least_motion.move()) continue;
         const double from = 0.97 + 0.03 * static_cast<double>(k) / static_cast<double>(starts.size());
+        polish_options.give_up_move = least_motion.move();
         const PolishResult direct =
             polish_defects(starts[k].positions, positions, normals_before, triangles, scored, pinned, polish_options,
                            progress.sub(from, from + 0.03 / static_cast<double>(starts.size())));
-        if (direct.iterations == 0) continue;
+        if (direct.iterations == 0 || direct.gave_up) continue;
         const Normals direct_normals = face_normals(direct.positions, triangles);
         const Figures now = judge.measure(direct.positions, direct_normals);
         if (judge.eligible(now) && now.score < input.score &&

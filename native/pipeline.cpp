@@ -141,9 +141,15 @@ constexpr double kInputPolishDamping = 1e-3;
 // faces: median run 5.8 -> 14.7 s).
 constexpr std::ptrdiff_t kLeastMoveVertices = 25000;
 // The candidates' polishes solve their damped systems by conjugate gradients
-// above this many rows: held at mu >= kInputPolishDamping the system is well
-// conditioned, and the sparse factor of J J^T fills in (two rings), so on a
-// 19k-row noisy plane their three polishes took 21 s factored, 4.7 s so.
+// above this many rows (the other polishes above 20000): the sparse factor of
+// J J^T fills in (it couples two rings), and held at mu >= kInputPolishDamping
+// the system is well conditioned. From 17k rows conjugate gradients were
+// 1.2-4 times faster on all five noisy meshes measured (a 19k-row noisy
+// plane 21 -> 5 s); below, the factor was often faster (5-6k rows: 1.0-1.7
+// times), but factored up to 10000 rows the held-out runs of 10k-20k faces
+// ended farther from their twins (mean log ratio 0.017 -> 0.039, a
+// generalized cylinder on a grid 0.82 -> 2.00 times the noise): the truncated
+// conjugate gradients' steps spread the motion further.
 constexpr int kCandidateDirectRows = 3000;
 // Where the smoothing moved the input by less than this share of what the
 // result moved it (RMS), the raw input stands for both smoothed starts: the

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace developable {
 namespace {
@@ -202,13 +203,12 @@ Region region_of(const Triangles& triangles, const std::vector<bool>& constraine
 
 // The polish of `region` on the mesh it was read off: the Levenberg-Marquardt
 // iterations of polish_defects (their contract), from `start` with its
-// `defects` (read at the rows only). `outside_move2` and `mesh_vertices`:
-// the sum of squared moves from the reference of the vertices outside the
-// region's mesh, and the whole mesh's vertex count (options.give_up_move).
+// `defects` (read at the rows only). It gives up once the sum over its
+// vertices of the squared moves from `reference` exceeds `move2_budget`
+// (options.give_up_move turned into this mesh's share; infinite: never).
 PolishResult polish_region(const Positions& start, const Positions& reference, const Normals& reference_normals,
                            const Triangles& triangles, const Region& region, Eigen::VectorXd defects,
-                           const PolishOptions& options, double outside_move2, Eigen::Index mesh_vertices,
-                           const Progress& progress) {
+                           const PolishOptions& options, double move2_budget, const Progress& progress) {
   const Eigen::Index n = start.rows();
   PolishResult result;
   result.positions = start;
@@ -332,9 +332,7 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
     residual = jacobian.evaluate(current, defects);
     energy = trial_energy;
     ++result.iterations;
-    if (options.give_up_move > 0.0 &&
-        (current - reference).rowwise().squaredNorm().sum() + outside_move2 >
-            options.give_up_move * options.give_up_move * static_cast<double>(mesh_vertices)) {
+    if (std::isfinite(move2_budget) && (current - reference).rowwise().squaredNorm().sum() > move2_budget) {
       result.gave_up = true;
       break;
     }
@@ -395,8 +393,13 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     }
     if (local) faces.push_back(f);
   }
+  // give_up_move as a budget of squared moves over the whole mesh.
+  const double move2_budget = options.give_up_move > 0.0
+                                  ? options.give_up_move * options.give_up_move * static_cast<double>(n)
+                                  : std::numeric_limits<double>::infinity();
   if (static_cast<Eigen::Index>(faces.size()) == triangles.rows())
-    return polish_region(start, reference, reference_normals, triangles, region, defects, options, 0.0, n, progress);
+    return polish_region(start, reference, reference_normals, triangles, region, defects, options, move2_budget,
+                         progress);
 
   // The submesh of those faces. Its vertices keep their order (and its faces
   // theirs), so every angle sum, the system and its solution are the ones the
@@ -438,11 +441,13 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     for (Eigen::Index i = 0; i < face_count; ++i)
       local_options.crease_groups[static_cast<size_t>(i)] = options.crease_groups[static_cast<size_t>(faces[static_cast<size_t>(i)])];
   }
-  double outside_move2 = 0.0;
-  for (Eigen::Index v = 0; v < n; ++v)
-    if (local_of[static_cast<size_t>(v)] < 0) outside_move2 += (start.row(v) - reference.row(v)).squaredNorm();
+  // The vertices outside the submesh keep their moves: they spend their part of the budget.
+  double local_budget = move2_budget;
+  if (std::isfinite(local_budget))
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (local_of[static_cast<size_t>(v)] < 0) local_budget -= (start.row(v) - reference.row(v)).squaredNorm();
   PolishResult result = polish_region(local_start, local_reference, local_normals, local_triangles, local_region,
-                                      std::move(local_defects), local_options, outside_move2, n, progress);
+                                      std::move(local_defects), local_options, local_budget, progress);
   Positions positions = start;
   for (Eigen::Index i = 0; i < m; ++i) positions.row(global_of[static_cast<size_t>(i)]) = result.positions.row(i);
   result.positions = std::move(positions);

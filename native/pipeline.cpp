@@ -72,18 +72,17 @@ constexpr double kSecondPhaseMove = 2.0;
 
 // The polish works on the vertices whose |defect| is above PolishOptions'
 // default (1e-4 rad, a tenth of the flat threshold), and on meshes of up to
-// kPolishDirectVertices scored vertices above this share of the input's mean
+// kLeastMoveVertices scored vertices above this share of the input's mean
 // |defect| if that is lower: a run can then remove 99.5 % of the mean even
 // when the input is nearly flat. Larger meshes keep the absolute threshold,
 // as the system then grows with the mesh (100k faces: polish 0.6 s instead
 // of 5.8 s, -99.3 % instead of -99.8 % on the benchmark's noisy cylinder).
-// The limit is least motion's (kLeastMoveVertices, about 50k faces): at
-// 20000 a 46k-face bent sheet whose noise left every vertex flat (mean
+// The limit is least motion's (about 50k faces): at a limit of its own,
+// 20000, a 46k-face bent sheet whose noise left every vertex flat (mean
 // |defect| 8e-5 rad) was not polished, so its candidates had nothing to
 // compete with and the deformation's moves stayed (4.2 times the noise from
 // its twin, -92.7 %).
 constexpr double kPolishActiveShare = 0.005;
-constexpr std::ptrdiff_t kPolishDirectVertices = 25000;
 // The second polish works on the scored vertices whose |defect| is below
 // this (rad; ten times the flat threshold) and leaves the rest to take up
 // the curvature (run_pipeline). On human_woman 0.003 / 0.01 / 0.03 / 0.1
@@ -1129,7 +1128,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     // nearly-flat polish then finishes that).
     if (!improved) polish_options.spread_damping = kInputPolishDamping;
     const std::ptrdiff_t scored_count = std::count(scored.begin(), scored.end(), true);
-    if (scored_count <= kPolishDirectVertices)
+    if (scored_count <= kLeastMoveVertices)
       polish_options.active_defect = std::min(polish_options.active_defect, kPolishActiveShare * before.mean_abs);
     const auto polish_start = Clock::now();
     const bool candidates = improved && scored_count <= kLeastMoveVertices;

@@ -207,14 +207,29 @@ Region region_of(const Triangles& triangles, const std::vector<bool>& constraine
   return region;
 }
 
+// The give-up bounds of PolishOptions on a mesh that may be a submesh: the
+// RMS move over the whole mesh from the squared moves of its own vertices.
+struct GiveUp {
+  double fixed = 0.0;                         // options.give_up_move
+  const std::atomic<double>* late = nullptr;  // options.late_give_up_move
+  double outside2 = 0.0;  // squared moves of the whole mesh's vertices outside the submesh, summed
+  double count = 1.0;     // vertices of the whole mesh
+
+  bool active() const { return fixed > 0.0 || late != nullptr; }
+  double bound() const {
+    if (fixed > 0.0) return fixed;
+    const double known = late != nullptr ? late->load() : 0.0;
+    return known > 0.0 ? known : std::numeric_limits<double>::infinity();
+  }
+  double rms(double inside2) const { return std::sqrt((inside2 + outside2) / count); }
+};
+
 // The polish of `region` on the mesh it was read off: the Levenberg-Marquardt
 // iterations of polish_defects (their contract), from `start` with its
-// `defects` (read at the rows only). It gives up once the sum over its
-// vertices of the squared moves from `reference` exceeds `move2_budget`
-// (options.give_up_move turned into this mesh's share; infinite: never).
+// `defects` (read at the rows only), giving up past `give_up`'s bound.
 PolishResult polish_region(const Positions& start, const Positions& reference, const Normals& reference_normals,
                            const Triangles& triangles, const Region& region, Eigen::VectorXd defects,
-                           const PolishOptions& options, double move2_budget, const Progress& progress) {
+                           const PolishOptions& options, const GiveUp& give_up, const Progress& progress) {
   const Eigen::Index n = start.rows();
   PolishResult result;
   result.positions = start;
@@ -338,9 +353,13 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
     residual = jacobian.evaluate(current, defects);
     energy = trial_energy;
     ++result.iterations;
-    if (std::isfinite(move2_budget) && (current - reference).rowwise().squaredNorm().sum() > move2_budget) {
-      result.gave_up = true;
-      break;
+    if (give_up.active()) {
+      result.largest_move =
+          std::max(result.largest_move, give_up.rms((current - reference).rowwise().squaredNorm().sum()));
+      if (result.largest_move > give_up.bound()) {
+        result.gave_up = true;
+        break;
+      }
     }
     if (decrease < kStallDecrease) break;
     // Stalled: over the last kStallWindow steps sum K^2 fell by less than
@@ -402,12 +421,9 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     }
     if (local) faces.push_back(f);
   }
-  // give_up_move as a budget of squared moves over the whole mesh.
-  const double move2_budget = options.give_up_move > 0.0
-                                  ? options.give_up_move * options.give_up_move * static_cast<double>(n)
-                                  : std::numeric_limits<double>::infinity();
+  GiveUp give_up{options.give_up_move, options.late_give_up_move, 0.0, static_cast<double>(n)};
   if (static_cast<Eigen::Index>(faces.size()) == triangles.rows())
-    return polish_region(start, reference, reference_normals, triangles, region, defects, options, move2_budget,
+    return polish_region(start, reference, reference_normals, triangles, region, defects, options, give_up,
                          progress);
 
   // The submesh of those faces. Its vertices keep their order (and its faces
@@ -450,13 +466,12 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     for (Eigen::Index i = 0; i < face_count; ++i)
       local_options.crease_groups[static_cast<size_t>(i)] = options.crease_groups[static_cast<size_t>(faces[static_cast<size_t>(i)])];
   }
-  // The vertices outside the submesh keep their moves: they spend their part of the budget.
-  double local_budget = move2_budget;
-  if (std::isfinite(local_budget))
+  // The vertices outside the submesh keep their moves, which count in the RMS.
+  if (give_up.active())
     for (Eigen::Index v = 0; v < n; ++v)
-      if (local_of[static_cast<size_t>(v)] < 0) local_budget -= (start.row(v) - reference.row(v)).squaredNorm();
+      if (local_of[static_cast<size_t>(v)] < 0) give_up.outside2 += (start.row(v) - reference.row(v)).squaredNorm();
   PolishResult result = polish_region(local_start, local_reference, local_normals, local_triangles, local_region,
-                                      std::move(local_defects), local_options, local_budget, progress);
+                                      std::move(local_defects), local_options, give_up, progress);
   Positions positions = start;
   for (Eigen::Index i = 0; i < m; ++i) positions.row(global_of[static_cast<size_t>(i)]) = result.positions.row(i);
   result.positions = std::move(positions);

@@ -40,6 +40,7 @@
 
 #include <Eigen/Core>
 
+#include <atomic>
 #include <vector>
 
 namespace developable {
@@ -74,6 +75,12 @@ struct PolishOptions {
   // (caller's units): least motion's candidates win only by moving less than
   // the result, and past it they had lost.
   double give_up_move = 0.0;
+  // The same bound when it is known only while the polish runs (least
+  // motion's polish of the input runs beside the result's polishes, whose
+  // move it is): read at every kept step, <= 0 until known, then fixed. The
+  // polish then keeps PolishResult::largest_move from its first step, so
+  // whether it went past the bound does not depend on when it became known.
+  const std::atomic<double>* late_give_up_move = nullptr;
 };
 
 struct PolishResult {
@@ -81,7 +88,10 @@ struct PolishResult {
   int iterations = 0;           // steps kept
   double residual_before = 0.0; // RMS of K over the constrained vertices at the start, rad
   double residual_after = 0.0;  // the same at the end
-  bool gave_up = false;         // stopped by options.give_up_move; `positions` is where it was
+  bool gave_up = false;         // stopped by a give-up bound; `positions` is where it was
+  // With a give-up bound (either): the largest RMS move from `reference` over
+  // the whole mesh after any kept step (caller's units); else 0.
+  double largest_move = 0.0;
 };
 
 // The angle-defect polish.

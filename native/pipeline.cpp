@@ -1,5 +1,6 @@
 #include "pipeline.h"
 
+#include "concurrent_jobs.h"
 #include "jet_denoise.h"
 #include "measures.h"
 #include "memory_budget.h"
@@ -8,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <optional>
 #include <cmath>
@@ -1146,61 +1148,88 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       polish_options.active_defect = std::min(polish_options.active_defect, kPolishActiveShare * before.mean_abs);
     const auto polish_start = Clock::now();
     const bool candidates = improved && scored_count <= kLeastMoveVertices;
-    // Progress: the polish, then the nearly flat ones, then the candidates.
-    const double polish_end = candidates ? 0.97 : 1.0;
-    const double polish_mid = 0.5 * (0.95 + polish_end);
-    const PolishResult polished =
-        polish_defects(result.positions, positions, normals_before, triangles, scored, pinned, polish_options,
-                       progress.sub(0.95, polish_mid));
-    stats.polish_iterations = polished.iterations;
-    if (polished.iterations > 0) {
-      const Figures now = judge.measure(polished.positions, face_normals(polished.positions, triangles));
-      if (judge.eligible(now) && now.score < best_score) keep(polished.positions, now);
-    }
-    // The nearly flat ones: where the polish leaves vertices of |defect| at
-    // or above kNearFlatDefect (the corners of a closed object), Sigma K^2
-    // is theirs and its steps compromise. A second polish drives only the
-    // scored vertices below it to zero and lets the others take up the
-    // curvature. It finishes an improved result (boat and wingnut, which
-    // come back unchanged, would pay seconds for nothing); its result is
-    // kept when it has more flat vertices and is
-    // as developable otherwise (least motion's slack on the mean, no larger
-    // largest |defect|): human_woman 59 -> 73 % flat, penguin 24 -> 55 %
-    // (docs/method.md, "Nearly flat vertices").
-    std::vector<bool> nearly_flat = scored;
-    bool some_curved = false;
-    for (size_t v = 0; v < nearly_flat.size(); ++v) {
-      if (nearly_flat[v] && std::abs(result.defect_after[static_cast<Eigen::Index>(v)]) >= kNearFlatDefect) {
-        nearly_flat[v] = false;
-        some_curved = true;
+    // Least motion's candidates: polishes of the input (or of its smoothed
+    // versions), damped as such, with conjugate gradients from
+    // kCandidateDirectRows rows.
+    PolishOptions candidate_options = polish_options;
+    candidate_options.spread_damping = kInputPolishDamping;
+    candidate_options.direct_rows = kCandidateDirectRows;
+
+    // The polish of the result, then of its nearly flat vertices.
+    const auto polish_result = [&](const Progress& share) {
+      const PolishResult polished = polish_defects(result.positions, positions, normals_before, triangles, scored,
+                                                   pinned, polish_options, share.sub(0.0, 0.5));
+      stats.polish_iterations = polished.iterations;
+      if (polished.iterations > 0) {
+        const Figures now = judge.measure(polished.positions, face_normals(polished.positions, triangles));
+        if (judge.eligible(now) && now.score < best_score) keep(polished.positions, now);
       }
-    }
-    if (improved && some_curved) {
-      const PolishResult finished =
-          polish_defects(result.positions, positions, normals_before, triangles, nearly_flat, pinned, polish_options,
-                         progress.sub(polish_mid, polish_end));
-      if (finished.iterations > 0) {
-        const Figures now = judge.measure(finished.positions, face_normals(finished.positions, triangles));
-        if (judge.eligible(now) && now.flat > stats.flat_share_after &&
-            as_developable(developability_of(now), developability_of(stats), before)) {
-          keep(finished.positions, now);
-          stats.polish_iterations += finished.iterations;
+      // The nearly flat ones: where the polish leaves vertices of |defect| at
+      // or above kNearFlatDefect (the corners of a closed object), Sigma K^2
+      // is theirs and its steps compromise. A second polish drives only the
+      // scored vertices below it to zero and lets the others take up the
+      // curvature. It finishes an improved result (boat and wingnut, which
+      // come back unchanged, would pay seconds for nothing); its result is
+      // kept when it has more flat vertices and is
+      // as developable otherwise (least motion's slack on the mean, no larger
+      // largest |defect|): human_woman 59 -> 73 % flat, penguin 24 -> 55 %
+      // (docs/method.md, "Nearly flat vertices").
+      std::vector<bool> nearly_flat = scored;
+      bool some_curved = false;
+      for (size_t v = 0; v < nearly_flat.size(); ++v) {
+        if (nearly_flat[v] && std::abs(result.defect_after[static_cast<Eigen::Index>(v)]) >= kNearFlatDefect) {
+          nearly_flat[v] = false;
+          some_curved = true;
         }
       }
-    }
-    if (candidates) {
+      if (improved && some_curved) {
+        const PolishResult finished = polish_defects(result.positions, positions, normals_before, triangles,
+                                                     nearly_flat, pinned, polish_options, share.sub(0.5, 1.0));
+        if (finished.iterations > 0) {
+          const Figures now = judge.measure(finished.positions, face_normals(finished.positions, triangles));
+          if (judge.eligible(now) && now.flat > stats.flat_share_after &&
+              as_developable(developability_of(now), developability_of(stats), before)) {
+            keep(finished.positions, now);
+            stats.polish_iterations += finished.iterations;
+          }
+        }
+      }
+    };
+    if (!candidates) {
+      polish_result(progress.sub(0.95, 1.0));
+    } else {
       // Least motion's candidates, each returned if it wins: the polish of
       // the input; of the input with its noise smoothed (jet_denoise.h,
       // within the limit); and of that after one deformation step toward
       // targets refit on it, which takes off the noise the smoothing left
       // in the normals (docs/method.md, "Smoothed input"). The last two
-      // only with options.polish_smoothed_input.
+      // only with options.polish_smoothed_input. The polish of the input
+      // does not depend on the result, so it runs beside the result's
+      // polishes; the smoothed starts need the result's move, so they run
+      // after them, beside each other. Each polish is the same whatever
+      // thread runs it, and they are judged in this order after all have
+      // run, so the result does not depend on the thread count.
       struct Start {
         Positions positions;
         bool smoothed;
+        PolishResult polished;
       };
       std::vector<Start> starts;
-      starts.push_back({positions, false});
+      starts.push_back({positions, false, {}});
+      // The polish of the input gives up past the result's move once the
+      // result's polishes have set it (PolishOptions::late_give_up_move).
+      std::atomic<double> result_move{0.0};
+      PolishOptions input_options = candidate_options;
+      input_options.late_give_up_move = &result_move;
+      run_concurrently({[&](const Progress& share) {
+                          polish_result(share);
+                          result_move = rms_move(result.positions, positions);
+                        },
+                        [&](const Progress& share) {
+                          starts[0].polished = polish_defects(positions, positions, normals_before, triangles,
+                                                              scored, pinned, input_options, share);
+                        }},
+                       options.threads, progress.sub(0.95, 0.98));
       LeastMotion least_motion(positions, triangles, connectivity, before, result.positions,
                                developability_of(stats));
       if (options.polish_smoothed_input) {
@@ -1212,28 +1241,23 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         // The raw input stands for both smoothed starts (kSameStartShare).
         const bool same_start = smoothing_move < kSameStartShare * least_motion.move();
         if (!same_start) {
-          starts.push_back({smoothed, true});
+          starts.push_back({smoothed, true, {}});
           Normals smoothed_normals = face_normals(smoothed, triangles);
           targets.refit(smoothed, smoothed_normals);
           deformation.set_targets(targets.targets());
           stats.fold_retries += step.advance(smoothed, smoothed_normals);
-          starts.push_back({std::move(smoothed), true});
+          starts.push_back({std::move(smoothed), true, {}});
         }
       }
-      polish_options.spread_damping = kInputPolishDamping;
-      polish_options.direct_rows = kCandidateDirectRows;
-      for (size_t k = 0; k < starts.size(); ++k) {
-        // A candidate wins only by moving the mesh less than the result: a
-        // smoothed start already farther is not polished (the benchmark's
-        // noise-free wavy cone spent 300 ms polishing two that lost so; on
-        // the families' held-out seeds no result changes).
-        if (rms_move(starts[k].positions, positions) >= least_motion.move()) continue;
-        const double from = 0.97 + 0.03 * static_cast<double>(k) / static_cast<double>(starts.size());
-        polish_options.give_up_move = least_motion.move();
-        const PolishResult direct =
-            polish_defects(starts[k].positions, positions, normals_before, triangles, scored, pinned, polish_options,
-                           progress.sub(from, from + 0.03 / static_cast<double>(starts.size())));
-        if (direct.iterations == 0 || direct.gave_up) continue;
+      // Each candidate is judged as if they were polished one after the
+      // other, against the result as it then stands: a candidate wins only
+      // by moving the mesh less, so a start as far or a polish that went as
+      // far at any step (PolishResult::largest_move) is out.
+      const auto judge_candidate = [&](const Start& start) {
+        const PolishResult& direct = start.polished;
+        if (direct.iterations == 0 || rms_move(start.positions, positions) >= least_motion.move() ||
+            direct.largest_move > least_motion.move())
+          return;
         const Normals direct_normals = face_normals(direct.positions, triangles);
         const Figures now = judge.measure(direct.positions, direct_normals);
         if (judge.eligible(now) && now.score < input_bar &&
@@ -1241,9 +1265,26 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
           keep(direct.positions, now);
           stats.polish_iterations = direct.iterations;
           stats.polished_from_input = true;
-          stats.input_smoothed = starts[k].smoothed;
+          stats.input_smoothed = start.smoothed;
         }
+      };
+      judge_candidate(starts[0]);
+      // The smoothed starts, polished beside each other against the result
+      // as it stands after the input's polish: one already farther is not
+      // polished (the benchmark's noise-free wavy cone spent 300 ms
+      // polishing two that lost so), and a polish gives up once it is
+      // farther.
+      candidate_options.give_up_move = least_motion.move();
+      std::vector<Job> smoothed_polishes;
+      for (size_t k = 1; k < starts.size(); ++k) {
+        if (rms_move(starts[k].positions, positions) >= least_motion.move()) continue;
+        smoothed_polishes.push_back([&, k](const Progress& share) {
+          starts[k].polished = polish_defects(starts[k].positions, positions, normals_before, triangles, scored,
+                                              pinned, candidate_options, share);
+        });
       }
+      run_concurrently(smoothed_polishes, options.threads, progress.sub(0.98, 1.0));
+      for (size_t k = 1; k < starts.size(); ++k) judge_candidate(starts[k]);
     }
     stats.time_polish_ms = elapsed_ms(polish_start);
   }

@@ -9,7 +9,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from devkit import meshes
+from devkit import families, meshes
 from devkit.binding import native
 from devkit.obj import read_obj, write_obj
 
@@ -60,6 +60,24 @@ def test_thread_counts_give_the_same_file_through_the_tool(big_mesh, tool_path, 
         assert run.returncode == 0, run.stderr
         outputs.append(out.read_bytes())
     assert outputs[0] == outputs[1]
+
+
+@pytest.mark.parametrize("family,triangulation,seed", [
+    ("cylinder_patch", "grid", 101),
+    ("bent_sheet", "slivers", 102),
+])
+def test_least_motions_candidates_polished_at_once_give_one_result(family, triangulation, seed, monkeypatch):
+    """Least motion polishes its candidates side by side (pipeline.cpp,
+    run_concurrently) and judges them in one order once all have run, so the
+    thread count changes the time, not the result."""
+    mesh = families.make(family, triangulation, 4000, 0.02, seed)
+    digests = set()
+    for threads in ("1", "2", "3"):
+        monkeypatch.setenv("DEVELOPABLE_THREADS", threads)
+        result = native.run(mesh.positions, mesh.triangles)
+        digests.add(digest(result.positions))
+    assert result.stats["polished_from_input"] and result.stats["input_smoothed"], result.stats
+    assert len(digests) == 1
 
 
 def test_segmented_runs_repeat_bit_for_bit(meshes_dir):

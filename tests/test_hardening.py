@@ -573,7 +573,10 @@ def progress_reports(p, t, **params):
 
 def test_cancel_at_every_stage(library):
     """Cancelling at any report ends in cancelled, no result, and the next run
-    on the same data gives the same result as one never cancelled."""
+    on the same data gives the same result as one never cancelled. The count
+    of the last reports may differ between runs (least motion's polish of the
+    input gives up when the polish beside it ends, concurrent_jobs.h): a run
+    that ends before its k-th report is a whole one."""
     p, t = two_components()[:2]
     p_before = p.copy()
     reports = progress_reports(p, t, segmentation=1)
@@ -586,14 +589,21 @@ def test_cancel_at_every_stage(library):
     picks = sorted({next(i for i, (_, s) in enumerate(reports) if s == stage) for stage in stages}
                    | set(range(0, len(reports), max(1, len(reports) // 8))))
     for k in picks:
-        calls = [0]
+        seen = []
 
         def cancel_after_k(fraction, stage, k=k):
-            calls[0] += 1
-            return calls[0] <= k
-        status, message = refused(p, t, segmentation=1, progress=cancel_after_k)
-        assert status == "CANCELLED" and "cancelled during " + reports[k][1] in message
-        assert calls[0] == k + 1  # no report after the one that said stop
+            seen.append(stage)
+            return len(seen) <= k
+        try:
+            whole = native.run(p, t, params=dict(segmentation=1), progress=cancel_after_k)
+        except native.EngineError as error:
+            assert error.status_name == "CANCELLED"
+            assert "cancelled during " + seen[k] in error.message
+            assert len(seen) == k + 1  # no report after the one that said stop
+        else:
+            # only the polish's reports vary in count
+            assert len(seen) <= k and reports[k][1] == "polish", (k, len(seen), reports[k])
+            assert np.array_equal(whole.positions, reference.positions)
     assert np.array_equal(p, p_before)  # the input buffer is only read
     again = native.run(p, t, params=dict(segmentation=1))
     assert np.array_equal(again.positions, reference.positions)

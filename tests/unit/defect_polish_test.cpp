@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include <cmath>
 #include <random>
 
@@ -170,6 +172,42 @@ TEST(DefectPolish, GivesUpOnceItHasMovedTheMeshTooFar) {
       polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, loose, Progress{});
   EXPECT_FALSE(same.gave_up);
   EXPECT_EQ(same.positions, full.positions);
+}
+
+// A bound that comes late (PolishOptions::late_give_up_move: least motion's
+// polish of the input runs beside the polish that sets it) gives the verdict
+// one known from the start gives: the largest move is kept from the first
+// step, so a polish that ends before the bound comes still shows it went past.
+TEST(DefectPolish, ALateGiveUpBoundGivesTheSameVerdict) {
+  const auto m = noisy_cylinder(0.01, 3);
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  const PolishResult full =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, PolishOptions{}, Progress{});
+  const double bound = 0.5 * rms_distance(full.positions, m.positions);
+  PolishOptions early;
+  early.give_up_move = bound;
+  const PolishResult stopped =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, early, Progress{});
+  ASSERT_TRUE(stopped.gave_up);
+
+  std::atomic<double> late_bound{bound};  // known before the first step
+  PolishOptions late;
+  late.late_give_up_move = &late_bound;
+  const PolishResult known =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, late, Progress{});
+  EXPECT_TRUE(known.gave_up);
+  EXPECT_EQ(known.iterations, stopped.iterations);
+  EXPECT_EQ(known.positions, stopped.positions);
+
+  late_bound = 0.0;  // never known while it runs: it runs to the end
+  const PolishResult unknown =
+      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, late, Progress{});
+  EXPECT_FALSE(unknown.gave_up);
+  EXPECT_EQ(unknown.positions, full.positions);
+  EXPECT_GT(unknown.largest_move, bound);
+  EXPECT_GE(unknown.largest_move, rms_distance(full.positions, m.positions));
+  EXPECT_EQ(full.largest_move, 0.0);  // no bound, nothing kept
 }
 
 // On a submesh the vertices outside it count too: a reference offset from

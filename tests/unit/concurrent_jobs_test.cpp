@@ -1,0 +1,131 @@
+// concurrent_jobs.h: every job runs once, the callback only on the calling
+// thread and in job order, cancels stop the others, a job's own failure
+// comes first.
+#include "concurrent_jobs.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace developable {
+namespace {
+
+// A progress callback that records who called it with what, and cancels
+// after `cancel_after` calls (never when negative).
+struct Recorder {
+  std::mutex mutex;
+  std::vector<std::thread::id> callers;
+  std::vector<double> fractions;
+  std::vector<std::string> stages;
+  int cancel_after = -1;
+
+  static bool call(double fraction, const char* stage, void* user) {
+    auto* self = static_cast<Recorder*>(user);
+    const std::lock_guard<std::mutex> lock(self->mutex);
+    self->callers.push_back(std::this_thread::get_id());
+    self->fractions.push_back(fraction);
+    self->stages.emplace_back(stage);
+    return self->cancel_after < 0 || static_cast<int>(self->callers.size()) <= self->cancel_after;
+  }
+  Progress progress() { return {&Recorder::call, this, 0.0, 1.0}; }
+};
+
+// A job that reports `steps` times, a millisecond apart, under `stage`.
+Job reporting_job(int steps, const char* stage, std::atomic<int>* runs) {
+  return [steps, stage, runs](const Progress& progress) {
+    ++*runs;
+    for (int i = 0; i < steps; ++i) {
+      progress.report(static_cast<double>(i) / steps, stage);
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  };
+}
+
+TEST(ConcurrentJobs, EveryJobRunsOnceWhateverTheThreadCount) {
+  for (int threads : {0, 1, 2, 3, 8}) {
+    std::vector<int> result(7, 0);
+    std::vector<Job> jobs;
+    for (size_t k = 0; k < result.size(); ++k)
+      jobs.push_back([&result, k](const Progress&) { result[k] += static_cast<int>(k * k); });
+    run_concurrently(jobs, threads, Progress{});
+    for (size_t k = 0; k < result.size(); ++k) EXPECT_EQ(result[k], static_cast<int>(k * k)) << threads;
+  }
+  run_concurrently({}, 2, Progress{});
+}
+
+TEST(ConcurrentJobs, TheCallbackHearsEveryJobInOrderFromTheCallingThreadOnly) {
+  std::vector<std::string> first_stages;
+  for (int threads : {1, 2, 3}) {
+    Recorder recorder;
+    std::atomic<int> runs{0};
+    // The long job last: its reports come while the short ones have ended.
+    run_concurrently({reporting_job(10, "a", &runs), reporting_job(5, "b", &runs), reporting_job(30, "c", &runs)},
+                     threads, recorder.progress());
+    EXPECT_EQ(runs, 3);
+    for (const auto& id : recorder.callers) EXPECT_EQ(id, std::this_thread::get_id());
+    for (size_t i = 1; i < recorder.fractions.size(); ++i)
+      EXPECT_GE(recorder.fractions[i], recorder.fractions[i - 1]) << threads;
+    if (first_stages.empty()) first_stages = recorder.stages;
+    EXPECT_EQ(recorder.stages, first_stages) << threads;  // job a's reports, then b's, then c's
+  }
+  ASSERT_EQ(first_stages.size(), 45u);
+  EXPECT_EQ(first_stages.front(), "a");
+  EXPECT_EQ(first_stages[10], "b");
+  EXPECT_EQ(first_stages.back(), "c");
+}
+
+TEST(ConcurrentJobs, ACancelStopsEveryJobAndNothingIsReportedAfterIt) {
+  for (int cancel_after : {3, 15}) {  // in the calling thread's job; in a passed-on one
+    Recorder recorder;
+    recorder.cancel_after = cancel_after;
+    std::atomic<int> runs{0};
+    std::atomic<bool> other_started{false}, other_stopped{false};
+    // The other job only stops when told to (it may not start at all when the
+    // cancel comes first; the call would never return if it were not told).
+    const Job endless = [&](const Progress& progress) {
+      other_started = true;
+      try {
+        for (;;) {
+          progress.report(0.5, "endless");
+          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+      } catch (const EngineError& e) {
+        other_stopped = e.status() == Status::cancelled;
+        throw;
+      }
+    };
+    try {
+      run_concurrently({reporting_job(10, "own", &runs), endless}, 2, recorder.progress());
+      FAIL() << "not cancelled";
+    } catch (const EngineError& e) {
+      EXPECT_EQ(e.status(), Status::cancelled);
+    }
+    EXPECT_EQ(recorder.callers.size(), static_cast<size_t>(cancel_after + 1));
+    EXPECT_TRUE(!other_started || other_stopped);
+  }
+}
+
+TEST(ConcurrentJobs, AJobsOwnFailureComesBeforeTheCancelsItCaused) {
+  std::atomic<int> runs{0};
+  const Job failing = [](const Progress&) { throw std::runtime_error("out of luck"); };
+  for (int threads : {1, 2, 3}) {
+    try {
+      run_concurrently({reporting_job(50, "a", &runs), failing, reporting_job(50, "c", &runs)}, threads,
+                       Progress{});
+      FAIL() << "nothing thrown";
+    } catch (const EngineError& e) {
+      FAIL() << "a cancel came first: " << e.what();
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "out of luck");
+    }
+  }
+}
+
+}  // namespace
+}  // namespace developable

@@ -1207,8 +1207,8 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       // does not depend on the result, so it runs beside the result's
       // polishes; the smoothed starts need the result's move, so they run
       // after them, beside each other. Each polish is the same whatever
-      // thread runs it, and they are judged in this order after all have
-      // run, so the result does not depend on the thread count.
+      // thread runs it, and each is judged, in this order, once it has run,
+      // so the result does not depend on the thread count.
       struct Start {
         Positions positions;
         bool smoothed;

@@ -207,18 +207,18 @@ Region region_of(const Triangles& triangles, const std::vector<bool>& constraine
   return region;
 }
 
-// The give-up bounds of PolishOptions on a mesh that may be a submesh: the
-// RMS move over the whole mesh from the squared moves of its own vertices.
+// The give-up bounds of PolishOptions (give_up_move, late_give_up_move) on a
+// mesh that may be a submesh: the RMS move over the whole mesh from the
+// squared moves of its own vertices.
 struct GiveUp {
-  double fixed = 0.0;                         // options.give_up_move
-  const std::atomic<double>* late = nullptr;  // options.late_give_up_move
+  const PolishOptions& options;
   double outside2 = 0.0;  // squared moves of the whole mesh's vertices outside the submesh, summed
   double count = 1.0;     // vertices of the whole mesh
 
-  bool active() const { return fixed > 0.0 || late != nullptr; }
+  bool active() const { return options.give_up_move > 0.0 || options.late_give_up_move != nullptr; }
   double bound() const {
-    if (fixed > 0.0) return fixed;
-    const double known = late != nullptr ? late->load() : 0.0;
+    if (options.give_up_move > 0.0) return options.give_up_move;
+    const double known = options.late_give_up_move != nullptr ? options.late_give_up_move->load() : 0.0;
     return known > 0.0 ? known : std::numeric_limits<double>::infinity();
   }
   double rms(double inside2) const { return std::sqrt((inside2 + outside2) / count); }
@@ -421,7 +421,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     }
     if (local) faces.push_back(f);
   }
-  GiveUp give_up{options.give_up_move, options.late_give_up_move, 0.0, static_cast<double>(n)};
+  GiveUp give_up{options, 0.0, static_cast<double>(n)};
   if (static_cast<Eigen::Index>(faces.size()) == triangles.rows())
     return polish_region(start, reference, reference_normals, triangles, region, defects, options, give_up,
                          progress);

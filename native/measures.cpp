@@ -172,15 +172,30 @@ CreaseGuard::CreaseGuard(const Triangles& triangles, const Normals& reference, c
       const int g = face_across(table, triangles, static_cast<int>(f), triangles(f, k), triangles(f, (k + 1) % 3));
       if (g <= f) continue;  // a boundary edge, or seen from g
       const bool one_group = groups.empty() || groups[static_cast<size_t>(f)] == groups[static_cast<size_t>(g)];
-      if (one_group && reference.row(f).squaredNorm() > 0.0 && reference.row(g).squaredNorm() > 0.0)
-        edges_.push_back({f, g, angle_between(reference.row(f), reference.row(g)) + growth});
+      if (!one_group || reference.row(f).squaredNorm() == 0.0 || reference.row(g).squaredNorm() == 0.0) continue;
+      const double limit = angle_between(reference.row(f), reference.row(g)) + growth;
+      if (limit < M_PI) edges_.push_back({f, g, std::cos(limit)});  // else no angle is wider
     }
 }
+
+namespace {
+
+// Whether the angle between a and b is wider than the angle whose cosine is
+// `c`: a.b < c |a| |b|, squared to save the roots (a zero vector is never
+// wider). Per watched edge and step, an atan2 cost a fifth of a 100k-face
+// iteration.
+bool wider_than(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b, double c) {
+  const double dot = a.dot(b);
+  const double bound = c * c * a.squaredNorm() * b.squaredNorm();
+  return c >= 0.0 ? dot < 0.0 || dot * dot < bound : dot < 0.0 && dot * dot > bound;
+}
+
+}  // namespace
 
 std::vector<Eigen::Index> CreaseGuard::creased_faces(const Normals& normals) const {
   std::vector<Eigen::Index> faces;
   for (const Edge& e : edges_)
-    if (angle_between(normals.row(e.f), normals.row(e.g)) > e.limit) {
+    if (wider_than(normals.row(e.f), normals.row(e.g), e.limit_cosine)) {
       faces.push_back(e.f);
       faces.push_back(e.g);
     }

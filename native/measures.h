@@ -66,7 +66,7 @@ class CreaseGuard {
  private:
   struct Edge {
     Eigen::Index f, g;
-    double limit;  // the reference angle plus the growth, rad
+    double limit_cosine;  // cosine of the reference angle plus the growth (edges where that is < pi)
   };
   std::vector<Edge> edges_;
 };

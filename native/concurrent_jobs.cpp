@@ -143,4 +143,36 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
     if (error) std::rethrow_exception(error);
 }
 
+void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,
+                  const std::function<void(Eigen::Index, Eigen::Index)>& body) {
+  if (count <= 0) return;
+  chunk = std::max<Eigen::Index>(chunk, 1);
+  const Eigen::Index chunks = (count + chunk - 1) / chunk;
+  const unsigned cores = threads > 0 ? static_cast<unsigned>(threads) : std::max(1u, std::thread::hardware_concurrency());
+  const auto workers = static_cast<size_t>(std::min<Eigen::Index>(std::min(cores, 8u), chunks));
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(chunks));
+  std::atomic<Eigen::Index> next{0};
+  const auto work = [&] {
+    for (Eigen::Index k = next++; k < chunks; k = next++) {
+      try {
+        body(k * chunk, std::min(count, (k + 1) * chunk));
+      } catch (...) {
+        errors[static_cast<size_t>(k)] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < workers; ++t) {
+    try {
+      pool.emplace_back(work);
+    } catch (...) {
+      break;  // could not start a thread: the others and this one do the chunks
+    }
+  }
+  work();
+  for (auto& t : pool) t.join();
+  for (const auto& error : errors)
+    if (error) std::rethrow_exception(error);
+}
+
 }  // namespace developable

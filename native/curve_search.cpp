@@ -1,12 +1,12 @@
 #include "curve_search.h"
 
+#include "concurrent_jobs.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <string>
-#include <thread>
 
 namespace developable {
 
@@ -274,30 +274,9 @@ Normals nearest_on_curves(const Normals& normals, const ArcTree& tree, std::vect
   if (hints != nullptr && static_cast<Eigen::Index>(hints->size()) != normals.rows())
     hints->assign(static_cast<size_t>(normals.rows()), -1);
   int* const hint = hints != nullptr ? hints->data() : nullptr;
-  // Fixed chunks, independent of the thread count.
-  constexpr Eigen::Index kChunk = 8192;
-  const Eigen::Index chunks = (normals.rows() + kChunk - 1) / kChunk;
-  const unsigned hardware =
-      threads > 0 ? static_cast<unsigned>(threads) : std::max(1u, std::thread::hardware_concurrency());
-  const int workers = static_cast<int>(std::min<Eigen::Index>(std::min(hardware, 8u), chunks));
-  std::atomic<Eigen::Index> next{0};
-  auto work = [&]() {
-    for (Eigen::Index k = next++; k < chunks; k = next++) {
-      nearest_rows(normals, tree, k * kChunk, std::min(normals.rows(), (k + 1) * kChunk), targets, hint);
-    }
-  };
-  if (workers <= 1) {
-    work();
-  } else {
-    std::vector<std::thread> pool;
-    try {
-      for (int t = 1; t < workers; ++t) pool.emplace_back(work);
-    } catch (...) {
-      // Could not start a thread: the ones that did, and this one, finish the work.
-    }
-    work();
-    for (auto& t : pool) t.join();
-  }
+  parallel_for(normals.rows(), 8192, threads, [&](Eigen::Index begin, Eigen::Index end) {
+    nearest_rows(normals, tree, begin, end, targets, hint);
+  });
   return targets;
 }
 

@@ -1,10 +1,11 @@
 // concurrent_jobs.h: every job runs once, the callback only on the calling
 // thread and in job order, cancels stop the others, a job's own failure
-// comes first.
+// comes first; parallel_for covers its range once in fixed chunks.
 #include "concurrent_jobs.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -123,6 +124,46 @@ TEST(ConcurrentJobs, AJobsOwnFailureComesBeforeTheCancelsItCaused) {
       FAIL() << "a cancel came first: " << e.what();
     } catch (const std::runtime_error& e) {
       EXPECT_STREQ(e.what(), "out of luck");
+    }
+  }
+}
+
+// Every item once, in the same chunks whatever the thread count; a loop of
+// one chunk stays on the calling thread.
+TEST(ParallelFor, EveryItemOnceInTheSameChunks) {
+  for (int threads : {0, 1, 2, 3, 8}) {
+    std::vector<int> visits(1000, 0);
+    std::mutex mutex;
+    std::vector<std::pair<Eigen::Index, Eigen::Index>> chunks;
+    parallel_for(1000, 64, threads, [&](Eigen::Index begin, Eigen::Index end) {
+      for (Eigen::Index i = begin; i < end; ++i) ++visits[static_cast<size_t>(i)];
+      const std::lock_guard<std::mutex> lock(mutex);
+      chunks.emplace_back(begin, end);
+    });
+    EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), 1000) << threads;
+    std::sort(chunks.begin(), chunks.end());
+    ASSERT_EQ(chunks.size(), 16u) << threads;
+    for (size_t k = 0; k < chunks.size(); ++k) {
+      EXPECT_EQ(chunks[k].first, static_cast<Eigen::Index>(64 * k));
+      EXPECT_EQ(chunks[k].second, std::min<Eigen::Index>(1000, static_cast<Eigen::Index>(64 * (k + 1))));
+    }
+  }
+  const std::thread::id caller = std::this_thread::get_id();
+  std::thread::id ran_on;
+  parallel_for(10, 64, 4, [&](Eigen::Index, Eigen::Index) { ran_on = std::this_thread::get_id(); });
+  EXPECT_EQ(ran_on, caller);
+  parallel_for(0, 64, 2, [](Eigen::Index, Eigen::Index) { FAIL() << "an empty range ran"; });
+}
+
+TEST(ParallelFor, TheLowestFailingChunksErrorIsRethrown) {
+  for (int threads : {1, 2, 3}) {
+    try {
+      parallel_for(100, 10, threads, [](Eigen::Index begin, Eigen::Index) {
+        if (begin >= 30) throw std::runtime_error("chunk " + std::to_string(begin / 10));
+      });
+      FAIL() << "nothing thrown";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "chunk 3") << threads;
     }
   }
 }

@@ -79,17 +79,20 @@ class NormalGuidedDeformation {
   //   row_weights: one positive weight per triangle (mls_row_weights, or ones);
   //   omega > 0: weight of the normal rows; centroid_weight > 0: lambda
   //   above; targets: unit target normal per triangle (only the coupled
-  //   formulation needs them here).
+  //   formulation needs them here); threads: for the per-triangle work of a
+  //   step (0: one per core; the result does not depend on it).
   // Throws EngineError(invalid_argument) for a weight out of range,
   // EngineError(numerical_failure) if the factorisation fails.
   NormalGuidedDeformation(const Triangles& triangles, const std::vector<bool>& pinned,
                           Eigen::VectorXd row_weights, double omega, double centroid_weight,
-                          Formulation formulation, const Normals& targets);
+                          Formulation formulation, const Normals& targets, int threads = 0);
 
   // New target normals, e.g. after the ideal curve was refit. The coupled
   // formulation refactors numerically (same sparsity pattern); the decoupled
   // one only stores them.
   void set_targets(const Normals& targets);
+  // The target normals the next step pulls toward (one row per triangle).
+  const Normals& targets() const { return targets_; }
 
   // Per-triangle factors in [0, 1] on omega (decoupled formulation only; the
   // coupled one keeps omega, as refactoring for each change would cost a
@@ -125,6 +128,7 @@ class NormalGuidedDeformation {
   double centroid_weight_;
   Formulation formulation_;
   Normals targets_;
+  int threads_;
   Eigen::VectorXd normal_weights_;  // per triangle in [0, 1], or empty (all 1)
   std::vector<int> free_index_;  // vertex -> unknown number, -1 when pinned
   Eigen::Index free_count_ = 0;

@@ -175,6 +175,11 @@ constexpr double kClosedMeshGrowth = 0.05;
 // while its largest |defect| grew).
 constexpr double kLeastGain = 1e-6;
 
+// From this many faces on, an iterate is scored on another thread while the
+// next targets are found (deform_patches); below, a thread per iteration
+// costs more than it saves.
+constexpr Eigen::Index kScoreBesideTargetsFaces = 20000;
+
 double rms_move(const Positions& a, const Positions& b) {
   return std::sqrt((a - b).rowwise().squaredNorm().mean());
 }
@@ -1016,7 +1021,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
                                     : Eigen::VectorXd::Ones(triangles.rows());
   NormalGuidedDeformation deformation(triangles, pinned, std::move(row_weights), options.omega,
                                       mode == Mode::paper ? 1.0 : kRefitCentroidWeight, formulation,
-                                      targets.targets());
+                                      targets.targets(), options.threads);
   stats.time_decompose_ms = elapsed_ms(decompose_start);
   // A segmented mesh is doubly curved: made flat vertex by vertex within its
   // patches it crumples (the crease guard, kSegmentedCreaseGrowth); one
@@ -1064,19 +1069,37 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     stats.max_defect_after = now.defect.max_abs;
     stats.flat_share_after = now.flat;
   };
+  // The curves of the targets the deformation pulls toward (the targets
+  // themselves are the deformation's).
+  std::vector<PatchCurve> step_curves = targets.curves();
+  // Whether `targets` already holds the next iteration's targets (see below).
+  bool targets_ahead = false;
+  const int score_threads = triangles.rows() >= kScoreBesideTargetsFaces ? options.threads : 1;
   stats.stop_reason = StopReason::iteration_limit;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report(0.1 + 0.85 * (iteration - 1) / options.max_iterations, "deformation");
     if (mode == Mode::refit && iteration > 1) {
-      targets.update(current, normals, iteration);
+      if (!targets_ahead) targets.update(current, normals, iteration);
       const auto refactor_start = Clock::now();
       deformation.set_targets(targets.targets());
       if (formulation == Formulation::coupled) stats.time_decompose_ms += elapsed_ms(refactor_start);
+      step_curves = targets.curves();
     }
     stats.fold_retries += step.advance(current, normals);
     stats.iterations = iteration;
 
-    const Figures now = judge.measure(current, normals);
+    // The iterate is scored while the next iteration's targets are found
+    // (both only read it), unless the run may go on from another iterate
+    // (the second phase). A run that stops now has found them for nothing.
+    Figures now;
+    targets_ahead = mode == Mode::refit && !second_phase_pending && iteration < options.max_iterations;
+    if (targets_ahead) {
+      run_concurrently({[&](const Progress&) { targets.update(current, normals, iteration + 1); },
+                        [&](const Progress&) { now = judge.measure(current, normals); }},
+                       score_threads, progress);
+    } else {
+      now = judge.measure(current, normals);
+    }
     // The second phase may not trade the shape for the score: its iterates
     // must keep the first phase's best flat share and move the mesh (RMS)
     // at most kSecondPhaseMove times as far from the input.
@@ -1085,8 +1108,8 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         (now.flat < first_phase_flat || rms_move(current, positions) > kSecondPhaseMove * first_phase_move);
     if (judge.eligible(now) && !second_phase_worse && now.score < best_score) {
       keep(current, now);
-      result.curves = targets.curves();
-      result.target_normals = targets.targets();
+      result.curves = step_curves;
+      result.target_normals = deformation.targets();
     }
     // The paper's criterion, on its own measure. Not on a segmented mesh:
     // there the mean wanders while curvature moves along the seams, and

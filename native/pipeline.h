@@ -80,8 +80,10 @@ struct PipelineOptions {
   // none, and 2 (instead of target_smoothing's one isotropic round) in the
   // second phase of a stalled one-patch run.
   int ruling_smoothing = -1;
-  // Threads of the target search (curve_search.h); 0: the machine's, at most
-  // 8. The result is bit-identical whatever the count.
+  // Threads of the target search, of a deformation step's rotations, of an
+  // iterate's score beside the next targets and of least motion's candidate
+  // polishes; 0: the machine's, at most 8. The result is bit-identical
+  // whatever the count.
   int threads = 0;
   // The angle-defect polish after the deformation (defect_polish.h): -1
   // automatic (on in the refit mode, off in the paper mode), 0 off, 1 on.

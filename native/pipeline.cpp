@@ -1355,8 +1355,10 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   input.pinned = pins_of(positions, triangles, pinned_input, options);
   input.normals = face_normals(positions, triangles);
   input.areas = face_areas(positions, triangles);
-  const std::vector<bool> on_boundary = boundary_vertices(positions, triangles);
-  input.closed = std::none_of(on_boundary.begin(), on_boundary.end(), [](bool b) { return b; });
+  // Closed: every vertex a triangle uses is interior.
+  input.closed = true;
+  for (Eigen::Index v = 0; v < positions.rows(); ++v)
+    input.closed = input.closed && (connectivity.count(v) == 0 || measured.interior[static_cast<size_t>(v)]);
 
   // Patches and their first curves (stages 3-6).
   progress.report(0.02, "ideal curve");

@@ -45,10 +45,10 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
 // [0, count), the chunks taken in turn by up to `threads` threads (the
 // calling one included; 0: one per core, at most 8). The chunks are fixed
 // whatever the thread count, so a body that writes only its own items gives
-// the same result on any number of threads. Loops over a mesh's faces or
-// vertices in the iterations (a 1M-face step: its right-hand side, the
-// angle defects) use it; a loop of one chunk runs on the calling thread
-// alone, so small meshes start no thread. No progress: a body is short.
+// the same result on any number of threads. Loops over a mesh's faces in
+// the iterations use it (the target search, a step's right-hand side); a
+// loop of one chunk runs on the calling thread alone, so small meshes start
+// no thread. No progress: a body is short.
 // Every chunk runs, even after one threw; then the exception of the lowest
 // chunk that threw is rethrown (the same whatever the thread count).
 void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,

@@ -21,7 +21,7 @@ from . import native
 # meshes and docs/human-woman.md; see docs/addon.md.
 
 GENERAL = {
-    "move_limit": 5.0, "limit_in_edges": False, "tolerance": 10.0, "omega": 5.0,
+    "move_limit": 1.0, "limit_in_edges": False, "tolerance": 10.0, "omega": 5.0,
     "max_iterations": 400, "mode": 'REFIT', "solver": 'DECOUPLED', "pin_boundary": False,
     "use_mls_weights": True, "stop_relative_change": 0.001, "developable_threshold": -10,
     "segmentation": 'AUTO', "auto_target_patches": True, "auto_segment_max_error": True,
@@ -38,7 +38,7 @@ PRESETS = {
     'CUSTOM': None,  # set by hand: nothing to apply
 }
 PRESET_ITEMS = [
-    ('GENERAL', "General", "Automatic choices for any mesh; the shape may move 5 % of its size"),
+    ('GENERAL', "General", "Automatic choices for any mesh; the shape may move 1 % of its size"),
     ('SHEET', "Clean up a scanned sheet", "One piece (no splitting), for a noisy scan or a "
      "sculpted panel that should become one smooth developable sheet; moves at most 2 % of the "
      "size"),
@@ -231,7 +231,7 @@ def extra_property_definitions():
             name="Job", items=PRESET_ITEMS, default='GENERAL', update=_preset_update,
             description="What the mesh is for: sets the settings below together"),
         "move_limit": FloatProperty(
-            name="Shape May Move", default=5.0, min=0.0, soft_min=0.1, soft_max=20.0,
+            name="Shape May Move", default=1.0, min=0.0, soft_min=0.1, soft_max=20.0,
             max=100.0, precision=1, subtype='PERCENTAGE', update=u,
             description="How far the shape may move: the farthest any vertex may go, in % of the "
             "object's size (its bounding-box diagonal). 0 = no limit"),

@@ -177,15 +177,15 @@ def test_zip_installs_and_enables(blender_env, installed_addon_dir):
     assert r["version"]
     assert len(r["panels"]) == 3
     # max_move is set from 'Shape May Move' (properties.DERIVED_PARAMETERS), whose
-    # default is the General job's 5 % of the size; every other field is an
-    # operator property.
+    # default is the General job's 1 % of the size, the engine's default; every
+    # other field is an operator property.
     derived = {"max_move"}
     for name in r["param_names"]:
         assert name in r["operator_properties"] or name in derived, name
     # The operator's defaults are the engine's (grid_resolution 0 = "the engine's default").
     props, engine = r["property_defaults"], r["defaults"]
     assert set(props) == set(engine)
-    assert props["max_move"] == pytest.approx(0.05)
+    assert props["max_move"] == pytest.approx(0.01) == pytest.approx(engine["max_move"])
     for k in engine:
         if k in derived or (k == "grid_resolution" and props[k] == 0):
             continue

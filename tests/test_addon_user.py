@@ -85,7 +85,7 @@ def test_a_better_result_is_reported_in_the_users_terms(batch):
     assert rec["verdict"] == "IMPROVED", rec["message"]
     assert rec["flat_after"] > rec["flat_before"]
     assert rec["faces_turned"] == 0
-    assert 0 < rec["move_percent"] <= 5.0 + 1e-6   # the General job: at most 5 % of the size
+    assert 0 < rec["move_percent"] <= 1.0 + 1e-6   # the General job: at most 1 % of the size
     assert "flat" in rec["message"] and "% of its size" in rec["message"]
     assert r["key_value"] == 1.0
 

@@ -1236,10 +1236,11 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       struct Start {
         Positions positions;
         bool smoothed;
+        double move;  // RMS from the input
         PolishResult polished;
       };
       std::vector<Start> starts;
-      starts.push_back({positions, false, {}});
+      starts.push_back({positions, false, 0.0, {}});
       // The polish of the input gives up past the result's move once the
       // result's polishes have set it (PolishOptions::late_give_up_move).
       std::atomic<double> result_move{0.0};
@@ -1265,12 +1266,13 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         // The raw input stands for both smoothed starts (kSameStartShare).
         const bool same_start = smoothing_move < kSameStartShare * least_motion.move();
         if (!same_start) {
-          starts.push_back({smoothed, true, {}});
+          starts.push_back({smoothed, true, smoothing_move, {}});
           Normals smoothed_normals = face_normals(smoothed, triangles);
           targets.refit(smoothed, smoothed_normals);
           deformation.set_targets(targets.targets());
           stats.fold_retries += step.advance(smoothed, smoothed_normals);
-          starts.push_back({std::move(smoothed), true, {}});
+          const double stepped_move = rms_move(smoothed, positions);
+          starts.push_back({std::move(smoothed), true, stepped_move, {}});
         }
       }
       // Each candidate is judged as if they were polished one after the
@@ -1279,7 +1281,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       // far at any step (PolishResult::largest_move) is out.
       const auto judge_candidate = [&](const Start& start) {
         const PolishResult& direct = start.polished;
-        if (direct.iterations == 0 || rms_move(start.positions, positions) >= least_motion.move() ||
+        if (direct.iterations == 0 || start.move >= least_motion.move() ||
             direct.largest_move > least_motion.move())
           return;
         const Normals direct_normals = face_normals(direct.positions, triangles);
@@ -1301,7 +1303,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       candidate_options.give_up_move = least_motion.move();
       std::vector<Job> smoothed_polishes;
       for (size_t k = 1; k < starts.size(); ++k) {
-        if (rms_move(starts[k].positions, positions) >= least_motion.move()) continue;
+        if (starts[k].move >= least_motion.move()) continue;
         smoothed_polishes.push_back([&, k](const Progress& share) {
           starts[k].polished = polish_defects(starts[k].positions, positions, normals_before, triangles, scored,
                                               pinned, candidate_options, share);

@@ -16,8 +16,10 @@ CATEGORY = "Developable"
 
 # Expected run time on 2 cores, fitted to docs/benchmarks.md (10k-1M faces):
 #   decoupled factorisation   faces * 3 us * (faces / 1e5)^0.35, once
-#   one iteration             faces * 0.25 us on one patch, ~0.6 us segmented
-#   iterations                ~60 on one patch (stall rule), ~300 segmented
+#   one iteration             faces * 0.33 us on one patch, ~0.6 us segmented
+#   iterations                ~25 on one patch (the engine's Anderson
+#                             acceleration, above 25000 inner vertices),
+#                             ~300 segmented
 #   coupled factorisation     faces * 30 us * (faces / 1e4)^0.4: once in paper
 #                             mode, every iteration with the coupled solver
 #   angle polish              faces * 6 us (1M faces: 5.6 s), when it runs
@@ -43,7 +45,7 @@ def expected_seconds(faces, settings):
             return iterations * (coupled + faces * per_face)
         return decoupled + iterations * faces * per_face
 
-    one_patch, segmented = run(60, 0.25e-6), run(300, 0.6e-6)
+    one_patch, segmented = run(25, 0.33e-6), run(300, 0.6e-6)
     if settings.polish != 'OFF':
         one_patch, segmented = one_patch + faces * 6e-6, segmented + faces * 6e-6
     if settings.segmentation == 'OFF':

@@ -49,7 +49,12 @@ TEST(MemoryBudget, EstimateGrowsWithTheMeshTheCoupledSolverAndThePolish) {
     EXPECT_GT(d, previous);
     previous = d;
     EXPECT_GT(estimated_peak_bytes(faces / 2, faces, coupled), d);
-    EXPECT_EQ(estimated_peak_bytes(faces / 2, faces, paper), estimated_peak_bytes(faces / 2, faces, coupled));
+    // The same coupled factor; the refit mode adds the Anderson acceleration's
+    // history, a few hundred bytes per vertex.
+    const double refit_extra = estimated_peak_bytes(faces / 2, faces, coupled) -
+                               estimated_peak_bytes(faces / 2, faces, paper);
+    EXPECT_GT(refit_extra, 0.0);
+    EXPECT_LE(refit_extra, 400.0 * static_cast<double>(faces / 2));
     PipelineOptions polished;
     EXPECT_GT(estimated_peak_bytes(faces / 2, faces, polished), d);
   }

@@ -28,7 +28,7 @@ void AndersonAcceleration::reset() {
   last_step_.resize(0);
 }
 
-Positions AndersonAcceleration::next(const Positions& previous, const Positions& step) {
+std::optional<Positions> AndersonAcceleration::next(const Positions& previous, const Positions& step) {
   if (previous.rows() != step.rows())
     throw EngineError(Status::invalid_argument, "anderson acceleration: iterates of different sizes");
   const Eigen::Index size = step.size();
@@ -39,7 +39,7 @@ Positions AndersonAcceleration::next(const Positions& previous, const Positions&
   if (last_step_.size() == 0) {
     last_residual_ = std::move(residual);
     last_step_ = g;
-    return step;
+    return std::nullopt;
   }
   // The newest differences go into the oldest slot; only their row of the
   // Gram matrix is new.

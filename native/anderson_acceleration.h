@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <vector>
 
 namespace developable {
@@ -28,11 +29,12 @@ class AndersonAcceleration {
   explicit AndersonAcceleration(int memory);
 
   // The accelerated iterate after the plain step `step` = G(previous), both
-  // n x 3 of one size throughout (until reset). The first call after
-  // construction or reset() returns `step` itself. Deterministic: the same
-  // inputs give the same bits whatever ran before on other objects.
+  // n x 3 of one size throughout (until reset). Nothing after the first call
+  // following construction or reset(), which only records the step: the
+  // plain step stands. Deterministic: the same inputs give the same bits
+  // whatever ran before on other objects.
   // Throws EngineError(invalid_argument) on a size change without reset().
-  Positions next(const Positions& previous, const Positions& step);
+  std::optional<Positions> next(const Positions& previous, const Positions& step);
 
   // Forgets the history (after a step whose mixed iterate was refused).
   void reset();

@@ -1101,6 +1101,26 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   std::optional<AndersonAcceleration> acceleration;
   if (mode == Mode::refit && !piecewise && scored_count > kAcceleratedVertices)
     acceleration.emplace(kAccelerationMemory);
+  // One fold-safe step; accelerated, its mix replaces it when the mix is
+  // within the limit and turns no face over and creases no edge.
+  const auto advance = [&]() {
+    if (!acceleration) {
+      stats.fold_retries += step.advance(current, normals);
+      return;
+    }
+    const Positions previous = current;
+    stats.fold_retries += step.advance(current, normals);
+    std::optional<Positions> mixed = acceleration->next(previous, current);
+    if (!mixed) return;
+    if (limit > 0.0) clamp_to_tolerance(*mixed, positions, limit);
+    Normals mixed_normals = face_normals(*mixed, triangles);
+    if (mixed->allFinite() && step.accepts(mixed_normals)) {
+      current = std::move(*mixed);
+      normals = std::move(mixed_normals);
+    } else {
+      acceleration->reset();  // the plain step stands
+    }
+  };
   stats.stop_reason = StopReason::iteration_limit;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     progress.report(0.1 + 0.85 * (iteration - 1) / options.max_iterations, "deformation");
@@ -1111,21 +1131,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       if (formulation == Formulation::coupled) stats.time_decompose_ms += elapsed_ms(refactor_start);
       step_curves = targets.curves();
     }
-    if (acceleration) {
-      const Positions previous = current;
-      stats.fold_retries += step.advance(current, normals);
-      Positions mixed = acceleration->next(previous, current);
-      if (limit > 0.0) clamp_to_tolerance(mixed, positions, limit);
-      Normals mixed_normals = face_normals(mixed, triangles);
-      if (mixed.allFinite() && step.accepts(mixed_normals)) {
-        current = std::move(mixed);
-        normals = std::move(mixed_normals);
-      } else {
-        acceleration->reset();  // the plain step stands
-      }
-    } else {
-      stats.fold_retries += step.advance(current, normals);
-    }
+    advance();
     stats.iterations = iteration;
 
     // The iterate is scored while the next iteration's targets are found

@@ -22,7 +22,9 @@ constexpr double kSmallestDamping = 1e-12;
 constexpr double kLargestDamping = 1e4;
 constexpr double kDampingDown = 3.0;
 constexpr double kDampingUp = 8.0;
-// Stop when a kept step lowered sum K^2 by less than this fraction.
+// A kept step that lowered sum K^2 by less than this fraction ends the
+// polish when the damping cannot grow (kLargestDamping); before, the damping
+// grows by kDampingUp and the polish goes on.
 constexpr double kStallDecrease = 1e-6;
 // A factor is reused while its steps lower sum K^2 by at least this fraction.
 constexpr double kReuseDecrease = 0.5;
@@ -361,7 +363,20 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
         break;
       }
     }
-    if (decrease < kStallDecrease) break;
+    // A step that gains next to nothing at small damping does not mean that
+    // no step can: faces that would turn over keep their corners, and the
+    // Gauss-Newton step of what is left may be a poor one. The steps of more
+    // damping lean toward the gradient and may still descend (human_woman
+    // rounded to single precision: its polish stopped at the 8th step; going
+    // on, the run ends 55 % flat instead of 53 %, its mean |defect| -3.7 %
+    // instead of +1.3 %).
+    if (decrease < kStallDecrease) {
+      if (damping * kDampingUp > kLargestDamping) break;
+      damping = std::max(damping, kInitialDamping) * kDampingUp;
+      factored = false;
+      fresh = false;
+      continue;
+    }
     // Stalled: over the last kStallWindow steps sum K^2 fell by less than
     // half and no vertex became flat (|K| < kFlatDefect): the rest is
     // curvature the constraints cannot remove (the corners of a hull).

@@ -92,6 +92,17 @@ constexpr double kPolishActiveShare = 0.005;
 // gave 68 / 73 / 76 / 67 % flat; 0.01 also gains on spot and the torus,
 // where 0.03 does not (docs/method.md, "Nearly flat vertices").
 constexpr double kNearFlatDefect = 0.01;
+// ... and its result may have a largest |defect| up to this fraction above
+// the larger of the polished result's and the input's. On a closed object
+// that largest |defect| sits on a seam the curvature gathered on (human_woman:
+// 8 rad, twice the input's); held to no growth at all, the second polish was
+// kept or thrown away on rounding: human_woman moved by 1e-7 of its
+// coordinates came back 43 % flat instead of 57 % for a largest |defect| of
+// 8.09 against 7.97 rad, hand 42-44 % instead of 51 %. 2 %, 5 % and 10 % gave
+// the same results on the shared meshes and three such copies of each
+// closed one; the families never reach the rule (docs/method.md, "Nearly flat
+// vertices").
+constexpr double kNearFlatLargestGrowth = 0.05;
 
 // The polish from the input (the second candidate, see run_pipeline) is
 // returned for moving the mesh less only if it is as developable as the
@@ -1240,9 +1251,9 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       // curvature. It finishes an improved result (boat and wingnut, which
       // come back unchanged, would pay seconds for nothing); its result is
       // kept when it has more flat vertices and is
-      // as developable otherwise (least motion's slack on the mean, no larger
-      // largest |defect|): human_woman 59 -> 73 % flat, penguin 24 -> 55 %
-      // (docs/method.md, "Nearly flat vertices").
+      // as developable otherwise (least motion's slack on the mean, a largest
+      // |defect| at most kNearFlatLargestGrowth larger): human_woman 59 -> 73 %
+      // flat, penguin 24 -> 55 % (docs/method.md, "Nearly flat vertices").
       std::vector<bool> nearly_flat = scored;
       bool some_curved = false;
       for (size_t v = 0; v < nearly_flat.size(); ++v) {
@@ -1256,8 +1267,10 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
                                                      nearly_flat, pinned, polish_options, share.sub(0.5, 1.0));
         if (finished.iterations > 0) {
           const Figures now = judge.measure(finished.positions, face_normals(finished.positions, triangles));
+          Developability bar = developability_of(stats);
+          bar.max_abs = (1.0 + kNearFlatLargestGrowth) * std::max(bar.max_abs, before.max_abs);
           if (judge.eligible(now) && now.flat > stats.flat_share_after &&
-              as_developable(developability_of(now), developability_of(stats), before)) {
+              as_developable(developability_of(now), bar, before)) {
             keep(finished.positions, now);
             stats.polish_iterations += finished.iterations;
           }

@@ -1265,9 +1265,10 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       // runs while a round is kept and gains kNearFlatRoundGain of flat share.
       // Every round is held to the result as it was before the first, so the
       // slacks do not add up over the rounds.
+      if (!improved) return;
       Developability bar = developability_of(stats);
       bar.max_abs = (1.0 + kNearFlatLargestGrowth) * std::max(bar.max_abs, before.max_abs);
-      for (int round = 0; improved && round < kNearFlatRounds; ++round) {
+      for (int round = 0; round < kNearFlatRounds; ++round) {
         std::vector<bool> nearly_flat = scored;
         bool some_curved = false;
         for (size_t v = 0; v < nearly_flat.size(); ++v) {

@@ -13,9 +13,8 @@ from devkit.binding import native
 from devkit.obj import read_obj
 
 
-@pytest.fixture(scope="module", autouse=True)
-def _library(library):
-    """Every test here runs the engine of the build under test."""
+# Every test here runs the engine of the build under test.
+pytestmark = pytest.mark.usefixtures("library")
 
 
 def rounded_copies(positions):

@@ -445,9 +445,14 @@ class FoldDamping {
 struct Rejections {
   int folded = 0, defect_grew = 0, flat_share_fell = 0;
   Eigen::Index fewest_turned_over = -1;
+  // The best result made no vertex flat and did not lower the mean |defect|.
+  bool no_visible_gain = false;
 };
 
 std::string unchanged_message(const Rejections& r, double flat_share_before) {
+  if (r.no_visible_gain)
+    return "Returned the input unchanged: the best result made no vertex flat and did not lower the mean "
+           "|defect| (its curvature could only move, not leave), so it would have moved the mesh for nothing.";
   if (r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0) {
     if (flat_share_before >= 1.0)
       return "Returned the input unchanged: every interior vertex is already flat (|defect| under 0.001 rad) "
@@ -1389,8 +1394,27 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     stats.time_polish_ms = elapsed_ms(polish_start);
   }
 
+  // The score may fall where no figure the user sees moves: on a segmented
+  // mesh it is the median inside the patches, which the apex of a capped
+  // cone or a cylinder's rims can lower by moving 1 % of the size while no
+  // vertex becomes flat and the mean |defect| stays (Gauss-Bonnet). Such a
+  // result moved the mesh for nothing: the input is returned instead.
+  Rejections rejected = judge.rejected();
+  if (improved && stats.flat_share_after <= stats.flat_share_before &&
+      stats.mean_defect_after >= (1.0 - kLeastGain) * before.mean_abs) {
+    improved = false;
+    rejected.no_visible_gain = true;
+    result.positions = positions;
+    result.defect_after = result.defect_before;
+    stats.mean_defect_after = before.mean_abs;
+    stats.max_defect_after = before.max_abs;
+    stats.flat_share_after = stats.flat_share_before;
+    stats.polish_iterations = 0;
+    stats.polished_from_input = false;
+    stats.input_smoothed = false;
+  }
   stats.result = improved ? ResultKind::improved : ResultKind::unchanged;
-  stats.result_message = result_message(stats, judge.rejected());
+  stats.result_message = result_message(stats, rejected);
   // Pinned vertices keep the caller's exact bits whatever the solvers did.
   for (Eigen::Index v = 0; v < n; ++v)
     if (pinned[static_cast<size_t>(v)]) result.positions.row(v) = positions.row(v);

@@ -45,7 +45,8 @@ def check_honest(positions, triangles, result):
         assert s["result_message"]
     else:
         assert s["result"] == native.RESULT_IMPROVED
-        assert s["mean_defect_after"] < s["mean_defect_before"] or \
+        # A gain the user sees, not rounding (the engine's kLeastGain).
+        assert s["mean_defect_after"] < (1 - 1e-6) * s["mean_defect_before"] or \
             s["flat_share_after"] > s["flat_share_before"]
 
 
@@ -93,6 +94,46 @@ def test_a_sphere_is_never_made_worse():
     positions, triangles = uv_sphere()
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
+
+
+def capped_solid(rng, apex):
+    """A closed cone (apex) or cylinder (not) with flat fan caps, random in
+    segment count and proportions: every vertex is an apex, a cap's centre or
+    on a rim, so no flattening can make one flat or lower the mean |defect|."""
+    segments = int(rng.integers(8, 65))
+    radius, height = rng.uniform(0.3, 2.0), rng.uniform(0.3, 3.0)
+    phi = np.linspace(0, 2 * np.pi, segments, endpoint=False)
+    ring = np.c_[radius * np.cos(phi), radius * np.sin(phi), np.zeros(segments)]
+    if apex:  # rim 0..s-1, apex s, bottom centre s+1
+        points = np.vstack([ring, [[0, 0, height], [0, 0, 0]]])
+        top, bottom = segments, segments + 1
+    else:  # bottom rim 0..s-1, top rim s..2s-1, bottom centre 2s, top centre 2s+1
+        points = np.vstack([ring, ring + [0, 0, height], [[0, 0, 0], [0, 0, height]]])
+        top, bottom = 2 * segments + 1, 2 * segments
+    tris = []
+    for s in range(segments):
+        t = (s + 1) % segments
+        tris.append((bottom, t, s))
+        if apex:
+            tris.append((s, t, top))
+        else:
+            tris += [(s, t, segments + t), (s, segments + t, segments + s), (segments + s, segments + t, top)]
+    return points, np.array(tris, dtype=np.int32)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_a_capped_solid_is_not_moved_for_nothing(seed):
+    """On a capped cone or cylinder the curvature can only move between the
+    apex, the caps' centres and the rims; before, the median inside the
+    patches fell and the mesh came back "improved", moved by 1 % of its
+    size, with no vertex flat and the same mean |defect|."""
+    rng = np.random.default_rng(seed)
+    positions, triangles = capped_solid(rng, apex=seed % 2 == 0)
+    assert is_closed(triangles)
+    result = native.run(positions, triangles)
+    check_honest(positions, triangles, result)
+    assert result.stats["result"] == native.RESULT_UNCHANGED
+    assert result.stats["result_message"].startswith("Returned the input unchanged")
 
 
 @pytest.mark.parametrize("name", ["human_woman", "penguin", "torus", "spot_low_resolution"])

@@ -165,6 +165,21 @@ def sphere_cap(angle_degrees, rings=12, sectors=36, radius=1.0):
     return pos, np.vstack([fan, rings_tris]).astype(np.int32)
 
 
+def pipe_elbow(rng):
+    """An open pipe elbow (a torus section: the tube's radius 1, the bend's
+    radius 2-5, bent by 45-120 degrees, 24-64 columns around and 16-50 rings),
+    drawn from the numpy Generator `rng`. Not developable: Gauss-Bonnet with
+    its two end circles fixes its total curvature, which can only gather."""
+    bend_radius, angle = rng.uniform(2.0, 5.0), np.radians(rng.uniform(45.0, 120.0))
+    around, rings = int(rng.integers(24, 65)), int(rng.integers(16, 51))
+    u = np.linspace(0, 2 * np.pi, around, endpoint=False)
+    v = np.linspace(0, angle, rings)
+    vv, uu = np.meshgrid(v, u, indexing="ij")  # a row per ring
+    positions = np.stack([(bend_radius + np.cos(uu)) * np.cos(vv), (bend_radius + np.cos(uu)) * np.sin(vv),
+                          np.sin(uu)], -1).reshape(-1, 3)
+    return positions, grid_triangles(rings, around, wrap=True)
+
+
 def noisy_grid(faces, seed=0):
     """A noisy, gently curved height-field grid of about `faces` triangles
     (cheap to build at millions of faces: memory-budget tests)."""

@@ -942,20 +942,23 @@ class StallRule {
 // The result's message: why the input came back, or which figure grew.
 std::string result_message(const PipelineStats& stats, const Rejections& rejected) {
   if (stats.result == ResultKind::unchanged) return unchanged_message(rejected, stats.flat_share_before);
-  char text[256];
-  if (stats.mean_defect_after > stats.mean_defect_before) {
-    std::snprintf(text, sizeof text,
-                  "Improved, but the mean |defect| grew by %.1f %%: a closed surface keeps its total "
-                  "curvature, which gathered on the seams between the flat patches.",
-                  100.0 * (stats.mean_defect_after / stats.mean_defect_before - 1.0));
-    return text;
-  }
-  if (stats.max_defect_after > stats.max_defect_before) {
-    std::snprintf(text, sizeof text, "Improved, but the largest |defect| grew from %.4g to %.4g rad (+%.3g %%).",
+  // Every figure that got worse is named (a twisted torus: the mean +0.2 %
+  // and the largest +113 % for 1 % more flat vertices).
+  char largest[128] = "";
+  if (stats.max_defect_after > stats.max_defect_before)
+    std::snprintf(largest, sizeof largest, "the largest |defect| grew from %.4g to %.4g rad (+%.3g %%)",
                   stats.max_defect_before, stats.max_defect_after,
                   100.0 * (stats.max_defect_after / stats.max_defect_before - 1.0));
+  char text[320];
+  if (stats.mean_defect_after > stats.mean_defect_before) {
+    std::snprintf(text, sizeof text,
+                  "Improved, but the mean |defect| grew by %.1f %%%s%s: a closed surface keeps its total "
+                  "curvature, which gathered on the seams between the flat patches.",
+                  100.0 * (stats.mean_defect_after / stats.mean_defect_before - 1.0), largest[0] ? " and " : "",
+                  largest);
     return text;
   }
+  if (largest[0]) return std::string("Improved, but ") + largest + ".";
   return "";
 }
 

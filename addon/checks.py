@@ -178,6 +178,10 @@ def verdict(obj_name, stats, fig):
     if unchanged:
         why = engine_said.rstrip(". ") or ("it is already developable" if stats["stop_reason"] == 0
                               else "no better shape was found within the limits")
+        if stats["stop_reason"] == 0 or "already developable" in engine_said:
+            # Already developable (whole, or piecewise with its curvature on the
+            # seams): nothing got worse and nothing is left to try.
+            return 'INFO', 'UNCHANGED', "%s: nothing to do (%s)." % (obj_name, why)
         return 'WARNING', 'UNCHANGED', (
             "%s: nothing changed (%s). Try a larger 'Shape May Move', or the job 'Whole object "
             "into pieces' for a closed object." % (obj_name, why))

@@ -1424,6 +1424,20 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   }
   stats.result = improved ? ResultKind::improved : ResultKind::unchanged;
   stats.result_message = result_message(stats, rejected);
+  // A mesh whose curvature sits only on the seams between its patches (a
+  // mitred pipe joint, a gear) is as developable as its pieces get: the
+  // generic advice (a larger tolerance) would send the user looking for
+  // what is not there.
+  if (!improved && piecewise) {
+    bool inside_flat = true;
+    for (Eigen::Index v = 0; v < n && inside_flat; ++v)
+      inside_flat = !scored[static_cast<size_t>(v)] || std::abs(result.defect_before[v]) < kFlatDefect;
+    if (inside_flat)
+      stats.result_message = "Returned the input unchanged: it is already developable piecewise. Every vertex "
+                             "inside its " + std::to_string(stats.patches) +
+                             " patches is flat (|defect| under 0.001 rad); the curvature sits on the seams "
+                             "between them.";
+  }
   // Pinned vertices keep the caller's exact bits whatever the solvers did.
   for (Eigen::Index v = 0; v < n; ++v)
     if (pinned[static_cast<size_t>(v)]) result.positions.row(v) = positions.row(v);

@@ -113,6 +113,18 @@ def test_a_worse_figure_is_a_warning_with_what_to_try(change, fig, words):
     assert words in message and "Try" in message and "at 0" in message
 
 
+@pytest.mark.parametrize("said", [
+    "The mesh is already developable: returned unchanged.",
+    "Returned the input unchanged: it is already developable piecewise. Every vertex inside its 3 "
+    "patches is flat (|defect| under 0.001 rad); the curvature sits on the seams between them.",
+])
+def test_an_already_developable_mesh_is_an_info_without_advice(said):
+    stats = dict(STATS, result=1, result_message=said, mean_defect_after=0.01, change_percent=0.0)
+    level, verdict, message = checks.verdict("pipe", stats, dict(FIG, max_move=0.0))
+    assert (level, verdict) == ("INFO", "UNCHANGED")
+    assert "already developable" in message and "Try" not in message
+
+
 def test_nothing_changed_is_a_warning_with_the_engines_reason():
     stats = dict(STATS, result=1, result_message="Returned the input unchanged: no iterate "
                  "lowered its curvature.", mean_defect_after=0.01, change_percent=0.0)

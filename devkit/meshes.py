@@ -180,6 +180,46 @@ def pipe_elbow(rng):
     return positions, grid_triangles(rings, around, wrap=True)
 
 
+def lobster_elbow(rng, turns_degrees=(10.0, 40.0), pieces=(2, 6)):
+    """A lobster-back pipe elbow: 2-6 (the range `pieces`) straight cylinder pieces of radius 1,
+    each turning by an angle drawn from `turns_degrees` (a range) from the
+    last, in one plane, joined by mitres
+    (every joint ring lies in the plane that halves the turn), 16-48 columns
+    around, 2-6 rings along each piece, drawn from the numpy Generator `rng`.
+    Developable piecewise: its curvature sits on the mitre rings only."""
+    pieces, around = int(rng.integers(pieces[0], pieces[1] + 1)), int(rng.integers(16, 49))
+    turns = np.radians(rng.uniform(*turns_degrees, pieces - 1))
+    lengths = rng.uniform(0.5, 2.0, pieces)
+    along = [int(rng.integers(2, 7)) for _ in range(pieces)]
+    normal = np.array([0.0, 0.0, 1.0])  # of the bend's plane
+    u = np.linspace(0, 2 * np.pi, around, endpoint=False)
+    axes, start = [np.array([1.0, 0.0, 0.0])], [np.zeros(3)]
+    for k in range(pieces - 1):
+        start.append(start[-1] + lengths[k] * axes[-1])
+        c, s = np.cos(turns[k]), np.sin(turns[k])
+        a = axes[-1]
+        axes.append(c * a + s * np.cross(normal, a))
+
+    def ring(centre, axis, plane_normal):
+        """The cylinder (centre, axis) cut by the plane through centre with plane_normal."""
+        side = np.cross(normal, axis)
+        offsets = np.cos(u)[:, None] * side + np.sin(u)[:, None] * normal
+        t = -(offsets @ plane_normal) / (axis @ plane_normal)
+        return centre + offsets + t[:, None] * axis
+
+    rows = []
+    for k in range(pieces):
+        a = axes[k]
+        begin = a if k == 0 else (axes[k - 1] + a) / np.linalg.norm(axes[k - 1] + a)
+        end = a if k == pieces - 1 else (a + axes[k + 1]) / np.linalg.norm(a + axes[k + 1])
+        first = ring(start[k], a, begin)
+        last = ring(start[k] + lengths[k] * a, a, end)
+        for i in range(0 if k == 0 else 1, along[k] + 1):
+            rows.append(first + (last - first) * (i / along[k]))
+    positions = np.vstack(rows)
+    return positions, grid_triangles(len(rows), around, wrap=True)
+
+
 def noisy_grid(faces, seed=0):
     """A noisy, gently curved height-field grid of about `faces` triangles
     (cheap to build at millions of faces: memory-budget tests)."""

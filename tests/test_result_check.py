@@ -136,6 +136,46 @@ def test_a_capped_solid_is_not_moved_for_nothing(seed):
     assert result.stats["result_message"].startswith("Returned the input unchanged")
 
 
+def open_box(rng):
+    """A box without a lid, random in proportions and in the grid each side is
+    cut into: developable piecewise, its curvature on the edges and corners."""
+    size = rng.uniform(0.5, 3.0, 3)
+    cells = rng.integers(2, 9, 3)
+    points, tris, index = [], [], {}
+
+    def vertex(p):
+        key = tuple(np.round(p, 9))
+        if key not in index:
+            index[key] = len(points)
+            points.append(p)
+        return index[key]
+
+    # each side: an origin corner and two edge vectors (outward normal = e1 x e2)
+    x, y, z = np.diag(size)
+    sides = [(np.zeros(3), y, x, (1, 0)), (np.zeros(3), x, z, (0, 2)), (y, z, x, (2, 0)),
+             (np.zeros(3), z, y, (2, 1)), (x, y, z, (1, 2))]
+    for origin, e1, e2, (a, b) in sides:
+        n1, n2 = cells[a], cells[b]
+        grid = [[vertex(origin + e1 * i / n1 + e2 * j / n2) for j in range(n2 + 1)] for i in range(n1 + 1)]
+        for i in range(n1):
+            for j in range(n2):
+                tris += [(grid[i][j], grid[i + 1][j], grid[i + 1][j + 1]),
+                         (grid[i][j], grid[i + 1][j + 1], grid[i][j + 1])]
+    return np.array(points), np.array(tris, dtype=np.int32)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_piecewise_developable_mesh_is_said_so(seed):
+    """An open box: every vertex inside its sides is flat, its curvature on
+    the edges between them. The engine says it is developable piecewise
+    rather than advising a larger tolerance."""
+    positions, triangles = open_box(np.random.default_rng(seed))
+    result = native.run(positions, triangles)
+    check_honest(positions, triangles, result)
+    assert result.stats["result"] == native.RESULT_UNCHANGED
+    assert "already developable piecewise" in result.stats["result_message"]
+
+
 @pytest.mark.parametrize("name", ["human_woman", "penguin", "torus", "spot_low_resolution"])
 def test_whole_objects_are_never_folded_or_made_worse(meshes_dir, name):
     positions, triangles = read_obj(meshes_dir / (name + ".obj"))

@@ -89,6 +89,19 @@ def test_an_open_pipe_elbow_comes_back_flatter(library, seed):
         assert "largest |defect| grew" in s["result_message"]
 
 
+@pytest.mark.xfail(strict=True, reason="segmentation cuts lobster-back elbows into strips across "
+                   "their mitres (docs/segmentation.md, Limits)")
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_lobster_back_elbow_is_found_developable_piecewise(library, seed):
+    """Cylinder pieces joined by mitres: each piece should be a patch, so
+    that every vertex inside the patches is flat and the engine says the
+    mesh is developable piecewise."""
+    positions, triangles = meshes.lobster_elbow(np.random.default_rng(seed), turns_degrees=(20.0, 45.0))
+    result = native.run(positions, triangles)
+    assert result.stats["result"] == native.RESULT_UNCHANGED
+    assert "already developable piecewise" in result.stats["result_message"]
+
+
 def test_an_open_whole_object_keeps_its_automatic_patches(library, meshes_dir):
     """hand_lowres has a boundary, so its one-patch run is made too; it keeps
     far fewer flat vertices (about 23 % against 53 %), so the segmented run is

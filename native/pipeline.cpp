@@ -2,6 +2,7 @@
 
 #include "anderson_acceleration.h"
 #include "concurrent_jobs.h"
+#include "cone_fit.h"
 #include "jet_denoise.h"
 #include "measures.h"
 #include "memory_budget.h"
@@ -439,6 +440,23 @@ class FoldDamping {
   Eigen::VectorXd damping_;
   bool damped_ = false;
 };
+
+// Whether every face normal lies within kFlatDefect (rad) of its patch's
+// cone (cone_fit.h): each patch's Gauss image is a circle of the sphere, so
+// each patch is a plane, a cylinder or a cone as it stands.
+bool patches_fit_cones(const std::vector<int>& patch_ids, int patch_count, const Normals& normals,
+                       const Eigen::VectorXd& areas) {
+  std::vector<NormalMoments> moments(static_cast<size_t>(patch_count));
+  for (Eigen::Index f = 0; f < normals.rows(); ++f)
+    moments[static_cast<size_t>(patch_ids[static_cast<size_t>(f)])].add(normals.row(f).transpose(), areas[f]);
+  std::vector<Cone> cones;
+  for (const NormalMoments& m : moments) cones.push_back(fit_cone(m).cone);
+  for (Eigen::Index f = 0; f < normals.rows(); ++f)
+    if (angle_to_cone(cones[static_cast<size_t>(patch_ids[static_cast<size_t>(f)])], normals.row(f).transpose()) >=
+        kFlatDefect)
+      return false;
+  return true;
+}
 
 // Why iterates were not eligible to be returned (see run_pipeline), for the
 // message of a run that returns its input.
@@ -1424,15 +1442,19 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   }
   stats.result = improved ? ResultKind::improved : ResultKind::unchanged;
   stats.result_message = result_message(stats, rejected);
-  // A mesh whose curvature sits only on the seams between its patches (a
-  // mitred pipe joint, a gear) is as developable as its pieces get: the
-  // generic advice (a larger tolerance) would send the user looking for
-  // what is not there.
+  // A mesh made of planes, cylinders and cones, its curvature on the seams
+  // between them (a gear, a box, a torus of aligned rings), is as developable as
+  // its pieces get: the generic advice (a larger tolerance) would send the
+  // user looking for what is not there. Every patch must also fit its cone
+  // as it stands, not only be flat inside: a patch of a smooth surface too
+  // narrow to have more than a few inside vertices can be flat there by
+  // chance. (A torus of aligned rings passes, rightly: each ring of quads
+  // is a cone frustum.)
   if (!improved && piecewise) {
     bool inside_flat = true;
     for (Eigen::Index v = 0; v < n && inside_flat; ++v)
       inside_flat = !scored[static_cast<size_t>(v)] || std::abs(result.defect_before[v]) < kFlatDefect;
-    if (inside_flat)
+    if (inside_flat && patches_fit_cones(result.patch_ids, stats.patches, normals_before, areas_before))
       stats.result_message = "Returned the input unchanged: it is already developable piecewise. Every vertex "
                              "inside its " + std::to_string(stats.patches) +
                              " patches is flat (|defect| under 0.001 rad); the curvature sits on the seams "

@@ -176,6 +176,42 @@ def test_a_piecewise_developable_mesh_is_said_so(seed):
     assert "already developable piecewise" in result.stats["result_message"]
 
 
+def ring_torus(n_major, n_minor, r, stagger):
+    """A torus of rings of quads (major radius 1); `stagger` turns every other
+    ring by half a step. Aligned, each ring of quads is a cone frustum
+    (developable piecewise); staggered, no ring is."""
+    a = np.linspace(0, 2 * np.pi, n_major, endpoint=False)
+    b = np.linspace(0, 2 * np.pi, n_minor, endpoint=False)
+    A, B = np.meshgrid(a, b, indexing="ij")
+    A = A + stagger * (np.pi / n_major) * (np.arange(n_minor) % 2)
+    points = np.stack([(1 + r * np.cos(B)) * np.cos(A), (1 + r * np.cos(B)) * np.sin(A), r * np.sin(B)],
+                      -1).reshape(-1, 3)
+    idx = np.arange(n_major * n_minor).reshape(n_major, n_minor)
+    right, up = np.roll(idx, -1, axis=0), np.roll(idx, -1, axis=1)
+    corner = np.roll(right, -1, axis=1)
+    tris = np.vstack([np.stack([idx, right, corner], -1).reshape(-1, 3),
+                      np.stack([idx, corner, up], -1).reshape(-1, 3)])
+    return points, tris.astype(np.int32)
+
+
+def test_a_torus_of_cone_frusta_is_said_developable_piecewise():
+    positions, triangles = ring_torus(48, 16, 0.35, stagger=0.0)
+    result = native.run(positions, triangles)
+    check_honest(positions, triangles, result)
+    assert "already developable piecewise" in result.stats["result_message"]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_piecewise_developable_is_not_said_of_a_torus_that_is_not(seed):
+    """Every other ring turned: no ring of quads is a cone frustum."""
+    rng = np.random.default_rng(seed)
+    positions, triangles = ring_torus(int(rng.integers(24, 65)), 2 * int(rng.integers(6, 13)),
+                                      rng.uniform(0.2, 0.6), stagger=1.0)
+    result = native.run(positions, triangles)
+    check_honest(positions, triangles, result)
+    assert "already developable piecewise" not in result.stats["result_message"]
+
+
 @pytest.mark.parametrize("name", ["human_woman", "penguin", "torus", "spot_low_resolution"])
 def test_whole_objects_are_never_folded_or_made_worse(meshes_dir, name):
     positions, triangles = read_obj(meshes_dir / (name + ".obj"))

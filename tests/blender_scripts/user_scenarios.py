@@ -81,10 +81,13 @@ def noisy_sheet(nu=24, nv=16, noise=0.01, seed=3):
 
 
 def torus(n_major=48, n_minor=16, R=1.0, r=0.35):
-    """A closed torus: its total curvature is 0 but cannot leave it (Gauss-Bonnet)."""
+    """A closed torus: its total curvature is 0 but cannot leave it (Gauss-Bonnet).
+    Every other ring is turned by half a step: a torus of aligned rings is a
+    stack of cone frusta, developable piecewise, which the engine says."""
     a = np.linspace(0, 2 * np.pi, n_major, endpoint=False)
     b = np.linspace(0, 2 * np.pi, n_minor, endpoint=False)
     A, B = np.meshgrid(a, b, indexing="ij")
+    A = A + (np.pi / n_major) * (np.arange(n_minor) % 2)
     pts = np.stack([(R + r * np.cos(B)) * np.cos(A), (R + r * np.cos(B)) * np.sin(A),
                     r * np.sin(B)], axis=-1).reshape(-1, 3)
     idx = np.arange(n_major * n_minor).reshape(n_major, n_minor)

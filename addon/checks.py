@@ -111,7 +111,8 @@ def figures(before, after, triangles, interior, defect_before, defect_after):
     """The result in the user's terms (all in the coordinates given, world space
     in the add-on): share of flat interior vertices before/after, the largest
     move as % of the size (bounding-box diagonal of `before`), and the faces
-    whose normal turned by more than 90 degrees."""
+    whose normal turned by more than 90 degrees; closed: every vertex a face
+    uses is interior (no boundary)."""
     before = np.asarray(before, dtype=np.float64)
     after = np.asarray(after, dtype=np.float64)
     interior = np.asarray(interior, dtype=bool)
@@ -130,6 +131,7 @@ def figures(before, after, triangles, interior, defect_before, defect_after):
         "flat_before": flat(defect_before),
         "flat_after": flat(defect_after),
         "faces_turned": int((dots < 0.0).sum()),
+        "closed": bool(interior[np.unique(np.asarray(triangles))].all()) if len(triangles) else False,
     }
 
 
@@ -202,9 +204,12 @@ def verdict(obj_name, stats, fig):
             tips.append("a smaller 'Shape May Move' or Pin Boundary")
         if (e1 > e0 or peaked) and fig["flat_after"] > fig["flat_before"]:
             # A closed surface keeps its total curvature (Gauss-Bonnet): flat
-            # pieces gather it on their seams, where it no longer cancels.
-            tips.append("setting the key to 1 if flat pieces are what you want (a closed surface "
-                        "keeps its total curvature; it gathered on the seams)")
+            # pieces gather it on their seams, where it no longer cancels. An
+            # open one's flat vertices gave theirs to fewer others.
+            why = ("a closed surface keeps its total curvature; it gathered on the seams"
+                   if fig.get("closed", True) else
+                   "the curvature the flat vertices gave up gathered on fewer others")
+            tips.append("setting the key to 1 if flat pieces are what you want (%s)" % why)
         elif e1 > e0 or peaked or fig["flat_after"] < fig["flat_before"]:
             tips.append("the job 'Whole object into pieces' (a closed or doubly curved object "
                         "cannot flatten as one piece)")

@@ -82,6 +82,7 @@ def test_figures_of_a_result():
     assert f["flat_before"] == 0.0 and f["flat_after"] == 1.0
     assert f["move_percent"] == pytest.approx(100 * np.abs(p[:, 2]).max() / size)
     assert f["faces_turned"] == 0
+    assert not f["closed"]                            # a grid has a boundary
     mirrored = p.copy()
     mirrored[:, 2] *= -1
     mirrored[:, 0] *= -1                              # every face turned over
@@ -111,6 +112,14 @@ def test_a_worse_figure_is_a_warning_with_what_to_try(change, fig, words):
     level, verdict, message = checks.verdict("torus", dict(STATS, **change), dict(FIG, **fig))
     assert (level, verdict) == ("WARNING", "WORSE")
     assert words in message and "Try" in message and "at 0" in message
+
+
+@pytest.mark.parametrize("closed, why", [(True, "a closed surface keeps its total curvature"),
+                                         (False, "gave up gathered on fewer others")])
+def test_gathered_curvature_is_explained_for_closed_and_open_meshes(closed, why):
+    stats = dict(STATS, max_defect_before=0.005, max_defect_after=0.006)
+    level, verdict, message = checks.verdict("elbow", stats, dict(FIG, closed=closed))
+    assert verdict == "WORSE" and why in message
 
 
 @pytest.mark.parametrize("said", [

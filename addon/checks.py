@@ -182,8 +182,11 @@ def verdict(obj_name, stats, fig):
                               else "no better shape was found within the limits")
         if stats["stop_reason"] == 0 or "already developable" in engine_said:
             # Already developable (whole, or piecewise with its curvature on the
-            # seams): nothing got worse and nothing is left to try.
-            return 'INFO', 'UNCHANGED', "%s: nothing to do (%s)." % (obj_name, why)
+            # seams): nothing got worse and nothing is left to try. The engine's
+            # words have their own line in the panel.
+            what = ("developable piecewise: its curvature sits on the seams between flat pieces"
+                    if "piecewise" in engine_said else "developable")
+            return 'INFO', 'UNCHANGED', "%s: nothing to do, it is already %s." % (obj_name, what)
         return 'WARNING', 'UNCHANGED', (
             "%s: nothing changed (%s). Try a larger 'Shape May Move', or the job 'Whole object "
             "into pieces' for a closed object." % (obj_name, why))

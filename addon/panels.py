@@ -295,8 +295,10 @@ def draw_result(layout, context, obj):
     rec = obj.developable
     col = layout.column(align=True)
     icon = {'IMPROVED': 'CHECKMARK', 'WORSE': 'ERROR', 'UNCHANGED': 'INFO'}[rec.verdict]
-    col.label(text={'IMPROVED': "Improved", 'WORSE': "A figure got worse",
-                    'UNCHANGED': "Nothing changed"}[rec.verdict], icon=icon)
+    title = {'IMPROVED': "Improved", 'WORSE': "A figure got worse", 'UNCHANGED': "Nothing changed"}[rec.verdict]
+    if rec.verdict == 'UNCHANGED' and "already developable" in rec.message:
+        title = "Already developable"
+    col.label(text=title, icon=icon)
     if rec.verdict != 'IMPROVED':
         box = layout.box().column(align=True)
         # The figures in brackets and the engine's words have lines of their own below.

@@ -946,7 +946,9 @@ class StallRule {
     history_.push_back(best_score);
     if (history_.size() <= window_) return false;
     const double then = history_[history_.size() - 1 - window_];
-    return then - best_score < improvement_ * then;
+    // <=: a score of 0 (a box's sides, every vertex inside them exactly
+    // flat) cannot gain, and ran to the iteration limit with <.
+    return then - best_score <= improvement_ * then;
   }
 
   void restart() { history_.clear(); }

@@ -174,6 +174,9 @@ def test_a_piecewise_developable_mesh_is_said_so(seed):
     check_honest(positions, triangles, result)
     assert result.stats["result"] == native.RESULT_UNCHANGED
     assert "already developable piecewise" in result.stats["result_message"]
+    # Its score (the median |defect| inside the patches) is 0 and cannot
+    # gain: the run stalls instead of going to the iteration limit.
+    assert native.STOP_REASONS[result.stats["stop_reason"]] == "stalled"
 
 
 def ring_torus(n_major, n_minor, r, stagger):

@@ -178,8 +178,6 @@ def verdict(obj_name, stats, fig):
                   plural(fig["faces_turned"], "face turned over", "faces turned over"),
                   stats["time_total_ms"]))
     if unchanged:
-        why = engine_said.rstrip(". ") or ("it is already developable" if stats["stop_reason"] == 0
-                              else "no better shape was found within the limits")
         if stats["stop_reason"] == 0 or "already developable" in engine_said:
             # Already developable (whole, or piecewise with its curvature on the
             # seams): nothing got worse and nothing is left to try. The engine's
@@ -187,6 +185,7 @@ def verdict(obj_name, stats, fig):
             what = ("developable piecewise: its curvature sits on the seams between flat pieces"
                     if "piecewise" in engine_said else "developable")
             return 'INFO', 'UNCHANGED', "%s: nothing to do, it is already %s." % (obj_name, what)
+        why = engine_said.rstrip(". ") or "no better shape was found within the limits"
         return 'WARNING', 'UNCHANGED', (
             "%s: nothing changed (%s). Try a larger 'Shape May Move', or the job 'Whole object "
             "into pieces' for a closed object." % (obj_name, why))

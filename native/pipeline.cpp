@@ -458,21 +458,28 @@ bool patches_fit_cones(const std::vector<int>& patch_ids, int patch_count, const
   return true;
 }
 
-// Why iterates were not eligible to be returned (see run_pipeline), for the
-// message of a run that returns its input.
+// Why a run returns its input, for its message: what made better-scoring
+// iterates ineligible (see Judge), or that no result was worth it.
 struct Rejections {
   int folded = 0, defect_grew = 0, flat_share_fell = 0;
   Eigen::Index fewest_turned_over = -1;
   // The best result made no vertex flat and did not lower the mean |defect|.
   bool no_visible_gain = false;
+  // Every patch is developable as it stands (deform_patches): nothing was
+  // there to gain.
+  bool developable_patches = false;
 };
 
-std::string unchanged_message(const Rejections& r, double flat_share_before) {
+std::string unchanged_message(const Rejections& r, const PipelineStats& stats) {
+  if (r.developable_patches)
+    return "Returned the input unchanged: it is already developable piecewise. Every vertex inside its " +
+           std::to_string(stats.patches) +
+           " patches is flat (|defect| under 0.001 rad); the curvature sits on the seams between them.";
   if (r.no_visible_gain)
     return "Returned the input unchanged: the best result made no vertex flat and did not lower the mean "
            "|defect| (its curvature could only move, not leave), so it would have moved the mesh for nothing.";
   if (r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0) {
-    if (flat_share_before >= 1.0)
+    if (stats.flat_share_before >= 1.0)
       return "Returned the input unchanged: every interior vertex is already flat (|defect| under 0.001 rad) "
              "and no iterate lowered the curvature further.";
     return "Returned the input unchanged: no iterate lowered its curvature. Try a larger "
@@ -961,7 +968,7 @@ class StallRule {
 
 // The result's message: why the input came back, or which figure grew.
 std::string result_message(const PipelineStats& stats, const Rejections& rejected) {
-  if (stats.result == ResultKind::unchanged) return unchanged_message(rejected, stats.flat_share_before);
+  if (stats.result == ResultKind::unchanged) return unchanged_message(rejected, stats);
   // Every figure that got worse is named (a twisted torus: the mean +0.2 %
   // and the largest +113 % for 1 % more flat vertices).
   char largest[128] = "";
@@ -1068,11 +1075,19 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   result.curves = targets.curves();
   result.target_normals = targets.targets();
 
-  result.positions = positions;
-  result.defect_after = result.defect_before;
-  stats.mean_defect_after = before.mean_abs;
-  stats.max_defect_after = before.max_abs;
-  stats.flat_share_after = stats.flat_share_before;
+  // The input as the result, with its figures (also where a result is
+  // dropped at the end).
+  const auto return_input = [&]() {
+    result.positions = positions;
+    result.defect_after = result.defect_before;
+    stats.mean_defect_after = before.mean_abs;
+    stats.max_defect_after = before.max_abs;
+    stats.flat_share_after = stats.flat_share_before;
+    stats.polish_iterations = 0;
+    stats.polished_from_input = false;
+    stats.input_smoothed = false;
+  };
+  return_input();
   stats.result = ResultKind::unchanged;
   if (before.mean_abs <= options.developable_threshold) {
     stats.stop_reason = StopReason::already_developable;
@@ -1433,17 +1448,8 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       stats.mean_defect_after >= (1.0 - kLeastGain) * before.mean_abs) {
     improved = false;
     rejected.no_visible_gain = true;
-    result.positions = positions;
-    result.defect_after = result.defect_before;
-    stats.mean_defect_after = before.mean_abs;
-    stats.max_defect_after = before.max_abs;
-    stats.flat_share_after = stats.flat_share_before;
-    stats.polish_iterations = 0;
-    stats.polished_from_input = false;
-    stats.input_smoothed = false;
+    return_input();
   }
-  stats.result = improved ? ResultKind::improved : ResultKind::unchanged;
-  stats.result_message = result_message(stats, rejected);
   // A mesh made of planes, cylinders and cones, its curvature on the seams
   // between them (a gear, a box, a torus of aligned rings), is as developable as
   // its pieces get: the generic advice (a larger tolerance) would send the
@@ -1456,12 +1462,11 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     bool inside_flat = true;
     for (Eigen::Index v = 0; v < n && inside_flat; ++v)
       inside_flat = !scored[static_cast<size_t>(v)] || std::abs(result.defect_before[v]) < kFlatDefect;
-    if (inside_flat && patches_fit_cones(result.patch_ids, stats.patches, normals_before, areas_before))
-      stats.result_message = "Returned the input unchanged: it is already developable piecewise. Every vertex "
-                             "inside its " + std::to_string(stats.patches) +
-                             " patches is flat (|defect| under 0.001 rad); the curvature sits on the seams "
-                             "between them.";
+    rejected.developable_patches =
+        inside_flat && patches_fit_cones(result.patch_ids, stats.patches, normals_before, areas_before);
   }
+  stats.result = improved ? ResultKind::improved : ResultKind::unchanged;
+  stats.result_message = result_message(stats, rejected);
   // Pinned vertices keep the caller's exact bits whatever the solvers did.
   for (Eigen::Index v = 0; v < n; ++v)
     if (pinned[static_cast<size_t>(v)]) result.positions.row(v) = positions.row(v);

@@ -1295,10 +1295,12 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     const auto polish_result = [&](const Progress& share) {
       const PolishResult polished = polish_defects(result.positions, positions, normals_before, triangles, scored,
                                                    pinned, polish_options, share.sub(0.0, 0.5));
-      stats.polish_iterations = polished.iterations;
       if (polished.iterations > 0) {
         const Figures now = judge.measure(polished.positions, face_normals(polished.positions, triangles));
-        if (judge.eligible(now) && now.score < best_score) keep(polished.positions, now);
+        if (judge.eligible(now) && now.score < best_score) {
+          keep(polished.positions, now);
+          stats.polish_iterations = polished.iterations;
+        }
       }
       // The nearly flat ones: where the polish leaves vertices of |defect| at
       // or above kNearFlatDefect (the corners of a closed object), Sigma K^2

@@ -43,6 +43,9 @@ def check_honest(positions, triangles, result):
     if s["result"] == native.RESULT_UNCHANGED:
         assert np.array_equal(result.positions, positions)
         assert s["result_message"]
+        # Nothing of a polish that was not kept is reported (boat showed
+        # "Angle polish: 11 steps" under "Nothing changed").
+        assert s["polish_iterations"] == 0 and s["polished_from_input"] == 0
     else:
         assert s["result"] == native.RESULT_IMPROVED
         # A gain the user sees, not rounding (the engine's kLeastGain).

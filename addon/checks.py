@@ -163,12 +163,24 @@ def plural(n, one, many):
 # of its own and cuts the warning there).
 ENGINE_WORDS = " Engine: "
 
+# The engine's reasons for returning the input that mean there was nothing to
+# do (dev_stats.unchanged_reason: native.UNCHANGED_ALREADY_DEVELOPABLE,
+# _DEVELOPABLE_PIECEWISE, _ALREADY_FLAT), in the user's words: not a failure,
+# so no advice.
+NOTHING_TO_DO = {
+    1: "it is already developable",
+    2: "it is already developable piecewise: its curvature sits on the seams between flat pieces",
+    3: "every vertex is already flat (curvature under 0.001 rad)",
+}
+
 
 def verdict(obj_name, stats, fig):
     """(report level 'INFO' or 'WARNING', verdict 'IMPROVED' / 'WORSE' /
-    'UNCHANGED', message): a warning when a figure got worse or nothing
-    changed, with what to try. stats: the engine's dev_stats as a dict; fig:
-    figures() (the engine's own flat shares and turned faces when it has them)."""
+    'UNCHANGED' / 'DEVELOPABLE', message): a warning when a figure got worse
+    or nothing changed, with what to try; an info line when the input came back
+    because it was developable already (NOTHING_TO_DO). stats: the engine's
+    dev_stats as a dict; fig: figures() (the engine's own flat shares and
+    turned faces when it has them)."""
     e0, e1 = stats["mean_defect_before"], stats["mean_defect_after"]
     engine_said = stats.get("result_message", "")
     unchanged = stats.get("result") == 1 or fig["max_move"] == 0.0
@@ -178,13 +190,11 @@ def verdict(obj_name, stats, fig):
                   plural(fig["faces_turned"], "face turned over", "faces turned over"),
                   stats["time_total_ms"]))
     if unchanged:
-        if stats["stop_reason"] == 0 or "already developable" in engine_said:
-            # Already developable (whole, or piecewise with its curvature on the
-            # seams): nothing got worse and nothing is left to try. The engine's
-            # words have their own line in the panel.
-            what = ("developable piecewise: its curvature sits on the seams between flat pieces"
-                    if "piecewise" in engine_said else "developable")
-            return 'INFO', 'UNCHANGED', "%s: nothing to do, it is already %s." % (obj_name, what)
+        nothing_to_do = NOTHING_TO_DO.get(stats.get("unchanged_reason"))
+        if nothing_to_do:
+            # Nothing got worse and nothing is left to try. The engine's words
+            # have their own line in the panel.
+            return 'INFO', 'DEVELOPABLE', "%s: nothing to do, %s." % (obj_name, nothing_to_do)
         why = engine_said.rstrip(". ") or "no better shape was found within the limits"
         return 'WARNING', 'UNCHANGED', (
             "%s: nothing changed (%s). Try a larger 'Shape May Move', or the job 'Whole object "

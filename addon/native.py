@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 6  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 7  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -51,6 +51,15 @@ STOP_REASONS = {0: "already developable", 1: "converged", 2: "iteration limit", 
 RESULT_IMPROVED = 0
 RESULT_UNCHANGED = 1
 RESULT_NAMES = {RESULT_IMPROVED: "improved", RESULT_UNCHANGED: "unchanged"}
+
+# dev_stats.unchanged_reason: why the input came back (DEV_UNCHANGED_*).
+UNCHANGED_NONE = 0
+UNCHANGED_ALREADY_DEVELOPABLE = 1
+UNCHANGED_DEVELOPABLE_PIECEWISE = 2
+UNCHANGED_ALREADY_FLAT = 3
+UNCHANGED_NO_VISIBLE_GAIN = 4
+UNCHANGED_NO_BETTER_ITERATE = 5
+UNCHANGED_REJECTED = 6
 
 if sys.platform.startswith("win"):
     LIBRARY_FILE = "developable.dll"
@@ -131,6 +140,8 @@ class dev_stats(ctypes.Structure):
         ("polished_from_input", ctypes.c_int32),
         # ABI 6
         ("input_smoothed", ctypes.c_int32),
+        # ABI 7
+        ("unchanged_reason", ctypes.c_int32),
     ]
 
 

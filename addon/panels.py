@@ -294,10 +294,9 @@ def _pct(x):
 def draw_result(layout, context, obj):
     rec = obj.developable
     col = layout.column(align=True)
-    icon = {'IMPROVED': 'CHECKMARK', 'WORSE': 'ERROR', 'UNCHANGED': 'INFO'}[rec.verdict]
-    title = {'IMPROVED': "Improved", 'WORSE': "A figure got worse", 'UNCHANGED': "Nothing changed"}[rec.verdict]
-    if rec.verdict == 'UNCHANGED' and "already developable" in rec.message:
-        title = "Already developable"
+    icon = {'IMPROVED': 'CHECKMARK', 'WORSE': 'ERROR', 'UNCHANGED': 'INFO', 'DEVELOPABLE': 'CHECKMARK'}[rec.verdict]
+    title = {'IMPROVED': "Improved", 'WORSE': "A figure got worse", 'UNCHANGED': "Nothing changed",
+             'DEVELOPABLE': "Already developable"}[rec.verdict]
     col.label(text=title, icon=icon)
     if rec.verdict != 'IMPROVED':
         box = layout.box().column(align=True)

@@ -381,7 +381,8 @@ class DEVELOPABLE_PG_result(PropertyGroup):
         name="Verdict", default='IMPROVED',
         items=[('IMPROVED', "Improved", "The mesh is more developable and no figure got worse"),
                ('WORSE', "Worse", "A figure got worse: the key is left at 0"),
-               ('UNCHANGED', "Unchanged", "Nothing changed")])
+               ('UNCHANGED', "Unchanged", "Nothing changed: nothing better was found"),
+               ('DEVELOPABLE', "Already developable", "Nothing to do: the mesh was developable already")])
     message: StringProperty(name="Message", description="What the run said, in words")
     engine_result: StringProperty(name="Engine check",
                                   description="The engine's own result check, as it is")

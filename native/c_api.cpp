@@ -71,6 +71,13 @@ static_assert(DEV_SOLVER_DECOUPLED == c_value(developable::Formulation::decouple
 static_assert(DEV_SOLVER_COUPLED == c_value(developable::Formulation::coupled));
 static_assert(DEV_RESULT_IMPROVED == c_value(developable::ResultKind::improved));
 static_assert(DEV_RESULT_UNCHANGED == c_value(developable::ResultKind::unchanged));
+static_assert(DEV_UNCHANGED_NONE == c_value(developable::UnchangedReason::none));
+static_assert(DEV_UNCHANGED_ALREADY_DEVELOPABLE == c_value(developable::UnchangedReason::already_developable));
+static_assert(DEV_UNCHANGED_DEVELOPABLE_PIECEWISE == c_value(developable::UnchangedReason::developable_piecewise));
+static_assert(DEV_UNCHANGED_ALREADY_FLAT == c_value(developable::UnchangedReason::already_flat));
+static_assert(DEV_UNCHANGED_NO_VISIBLE_GAIN == c_value(developable::UnchangedReason::no_visible_gain));
+static_assert(DEV_UNCHANGED_NO_BETTER_ITERATE == c_value(developable::UnchangedReason::no_better_iterate));
+static_assert(DEV_UNCHANGED_REJECTED == c_value(developable::UnchangedReason::rejected));
 
 void write_message(char* message, size_t capacity, const std::string& text) {
   if (message == nullptr || capacity == 0) return;
@@ -282,6 +289,7 @@ int32_t dev_result_stats(const dev_result* result, dev_stats* stats) {
   stats->time_polish_ms = s.time_polish_ms;
   stats->polished_from_input = s.polished_from_input ? 1 : 0;
   stats->input_smoothed = s.input_smoothed ? 1 : 0;
+  stats->unchanged_reason = static_cast<int32_t>(s.unchanged_reason);
   const size_t length = std::min(s.result_message.size(), sizeof stats->result_message - 1);
   std::memcpy(stats->result_message, s.result_message.data(), length);
   stats->result_message[length] = '\0';

@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 6
+#define DEV_ABI_VERSION 7
 
 /* Status codes (values are stable). */
 enum {
@@ -82,7 +82,27 @@ enum {
 enum {
   DEV_RESULT_IMPROVED = 0, /* the returned mesh is better and no user-facing figure got worse */
   DEV_RESULT_UNCHANGED = 1 /* the input is returned (no honest improvement within the limits, or
-                              already developable); the reason is in dev_stats.result_message */
+                              already developable); why: dev_stats.unchanged_reason, in words
+                              dev_stats.result_message */
+};
+
+/* Why the input came back (dev_stats.unchanged_reason, ABI 7). The first three
+ * mean there was nothing to do; the others that nothing good was found. */
+enum {
+  DEV_UNCHANGED_NONE = 0,                  /* the result is DEV_RESULT_IMPROVED */
+  DEV_UNCHANGED_ALREADY_DEVELOPABLE = 1,   /* mean |defect| below developable_threshold */
+  DEV_UNCHANGED_DEVELOPABLE_PIECEWISE = 2, /* every vertex inside the patches is flat (|defect| <
+                                              1e-3 rad) and every patch fits its cone: the
+                                              curvature sits on the seams */
+  DEV_UNCHANGED_ALREADY_FLAT = 3,          /* every interior vertex is flat already and no iterate
+                                              lowered the curvature further */
+  DEV_UNCHANGED_NO_VISIBLE_GAIN = 4,       /* the best result made no vertex flat and did not lower
+                                              the mean |defect|: it moved the curvature only */
+  DEV_UNCHANGED_NO_BETTER_ITERATE = 5,     /* no iterate lowered the curvature (a larger tolerance
+                                              or more iterations may) */
+  DEV_UNCHANGED_REJECTED = 6               /* every iterate that lowered the curvature turned faces
+                                              over, raised the mean |defect| or lost flat vertices
+                                              (the message names which) */
 };
 
 /* Seam treatment for segmented meshes (issue: segmentation). */
@@ -166,6 +186,8 @@ typedef struct dev_stats {
   /* ABI 6: */
   int32_t input_smoothed;       /* 1 (with polished_from_input): the polish started from the input
                                    with its noise smoothed */
+  /* ABI 7: */
+  int32_t unchanged_reason;     /* DEV_UNCHANGED_*: why the input came back (0 when improved) */
 } dev_stats;
 
 /* Opaque result of one run; free with dev_result_free. */

@@ -470,20 +470,34 @@ struct Rejections {
   bool developable_patches = false;
 };
 
+UnchangedReason unchanged_reason(const Rejections& r, const PipelineStats& stats) {
+  if (r.developable_patches) return UnchangedReason::developable_piecewise;
+  if (r.no_visible_gain) return UnchangedReason::no_visible_gain;
+  if (r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0)
+    return stats.flat_share_before >= 1.0 ? UnchangedReason::already_flat : UnchangedReason::no_better_iterate;
+  return UnchangedReason::rejected;
+}
+
+// The message of a run that returned its input for stats.unchanged_reason.
 std::string unchanged_message(const Rejections& r, const PipelineStats& stats) {
-  if (r.developable_patches)
-    return "Returned the input unchanged: it is already developable piecewise. Every vertex inside its " +
-           std::to_string(stats.patches) +
-           " patches is flat (|defect| under 0.001 rad); the curvature sits on the seams between them.";
-  if (r.no_visible_gain)
-    return "Returned the input unchanged: the best result made no vertex flat and did not lower the mean "
-           "|defect| (its curvature could only move, not leave), so it would have moved the mesh for nothing.";
-  if (r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0) {
-    if (stats.flat_share_before >= 1.0)
+  switch (stats.unchanged_reason) {
+    case UnchangedReason::developable_piecewise:
+      return "Returned the input unchanged: it is already developable piecewise. Every vertex inside its " +
+             std::to_string(stats.patches) +
+             " patches is flat (|defect| under 0.001 rad); the curvature sits on the seams between them.";
+    case UnchangedReason::no_visible_gain:
+      return "Returned the input unchanged: the best result made no vertex flat and did not lower the mean "
+             "|defect| (its curvature could only move, not leave), so it would have moved the mesh for nothing.";
+    case UnchangedReason::already_flat:
       return "Returned the input unchanged: every interior vertex is already flat (|defect| under 0.001 rad) "
              "and no iterate lowered the curvature further.";
-    return "Returned the input unchanged: no iterate lowered its curvature. Try a larger "
-           "tolerance or more iterations.";
+    case UnchangedReason::no_better_iterate:
+      return "Returned the input unchanged: no iterate lowered its curvature. Try a larger "
+             "tolerance or more iterations.";
+    case UnchangedReason::none:
+    case UnchangedReason::already_developable:  // worded where the run returns early
+    case UnchangedReason::rejected:
+      break;
   }
   std::string reasons, advice;
   auto add = [](std::string& list, const std::string& item) { list += (list.empty() ? "" : ", ") + item; };
@@ -1091,6 +1105,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   stats.result = ResultKind::unchanged;
   if (before.mean_abs <= options.developable_threshold) {
     stats.stop_reason = StopReason::already_developable;
+    stats.unchanged_reason = UnchangedReason::already_developable;
     stats.result_message = "The mesh is already developable: returned unchanged.";
     stats.time_total_ms = elapsed_ms(start_time);
     progress.report(1.0, "done");
@@ -1468,6 +1483,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         inside_flat && patches_fit_cones(result.patch_ids, stats.patches, normals_before, areas_before);
   }
   stats.result = improved ? ResultKind::improved : ResultKind::unchanged;
+  stats.unchanged_reason = improved ? UnchangedReason::none : unchanged_reason(rejected, stats);
   stats.result_message = result_message(stats, rejected);
   // Pinned vertices keep the caller's exact bits whatever the solvers did.
   for (Eigen::Index v = 0; v < n; ++v)

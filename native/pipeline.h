@@ -47,6 +47,17 @@ enum class StopReason { already_developable = 0, converged = 1, iteration_limit 
 // PipelineStats::result_message).
 enum class ResultKind { improved = 0, unchanged = 1 };
 
+// Why run_pipeline returned the input (developable.h, DEV_UNCHANGED_*).
+enum class UnchangedReason {
+  none = 0,
+  already_developable = 1,
+  developable_piecewise = 2,
+  already_flat = 3,
+  no_visible_gain = 4,
+  no_better_iterate = 5,
+  rejected = 6
+};
+
 // |defect| (rad) under which an interior vertex counts as flat (the flat share).
 inline constexpr double kFlatDefect = 1e-3;
 
@@ -132,6 +143,7 @@ struct PipelineStats {
   double time_decompose_ms = 0.0, time_iterate_ms = 0.0, time_total_ms = 0.0;  // t_D, t_I, t_T
   double time_polish_ms = 0.0;
   ResultKind result = ResultKind::unchanged;
+  UnchangedReason unchanged_reason = UnchangedReason::none;  // with result unchanged
   Eigen::Index faces_turned_over = 0;  // faces of the result > 90 degrees from the input's
   double flat_share_before = 0.0, flat_share_after = 0.0;  // interior share with |defect| < kFlatDefect
   std::string result_message;          // plain words for the user; empty when improved

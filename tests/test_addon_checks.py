@@ -3,6 +3,7 @@ on seeded generated meshes, without Blender: what the engine is handed, where
 a refused mesh is bad, the figures and when a result is a warning."""
 import importlib.util
 import pathlib
+import re
 
 import numpy as np
 import pytest
@@ -122,21 +123,38 @@ def test_gathered_curvature_is_explained_for_closed_and_open_meshes(closed, why)
     assert verdict == "WORSE" and why in message
 
 
-@pytest.mark.parametrize("said", [
-    "The mesh is already developable: returned unchanged.",
-    "Returned the input unchanged: it is already developable piecewise. Every vertex inside its 3 "
-    "patches is flat (|defect| under 0.001 rad); the curvature sits on the seams between them.",
+def unchanged_reasons():
+    """DEV_UNCHANGED_* of native/developable.h: {name: value}."""
+    header = (pathlib.Path(__file__).resolve().parents[1] / "native" / "developable.h").read_text()
+    return {name: int(value) for name, value in re.findall(r"DEV_UNCHANGED_(\w+) = (\d+)", header)}
+
+
+def test_the_reasons_with_nothing_to_do_are_the_engines():
+    reasons = unchanged_reasons()
+    assert len(reasons) == 7
+    assert set(checks.NOTHING_TO_DO) == {reasons["ALREADY_DEVELOPABLE"], reasons["DEVELOPABLE_PIECEWISE"],
+                                         reasons["ALREADY_FLAT"]}
+
+
+@pytest.mark.parametrize("reason, words", [
+    ("ALREADY_DEVELOPABLE", "it is already developable."),
+    ("DEVELOPABLE_PIECEWISE", "already developable piecewise"),
+    ("ALREADY_FLAT", "every vertex is already flat"),
 ])
-def test_an_already_developable_mesh_is_an_info_without_advice(said):
-    stats = dict(STATS, result=1, result_message=said, mean_defect_after=0.01, change_percent=0.0)
+def test_an_already_developable_mesh_is_an_info_without_advice(reason, words):
+    # The engine's message is not read: its wording may change.
+    stats = dict(STATS, result=1, unchanged_reason=unchanged_reasons()[reason], result_message="",
+                 mean_defect_after=0.01, change_percent=0.0)
     level, verdict, message = checks.verdict("pipe", stats, dict(FIG, max_move=0.0))
-    assert (level, verdict) == ("INFO", "UNCHANGED")
-    assert "already developable" in message and "Try" not in message
+    assert (level, verdict) == ("INFO", "DEVELOPABLE")
+    assert "nothing to do" in message and words in message and "Try" not in message
 
 
-def test_nothing_changed_is_a_warning_with_the_engines_reason():
-    stats = dict(STATS, result=1, result_message="Returned the input unchanged: no iterate "
-                 "lowered its curvature.", mean_defect_after=0.01, change_percent=0.0)
+@pytest.mark.parametrize("reason", ["NO_VISIBLE_GAIN", "NO_BETTER_ITERATE", "REJECTED"])
+def test_nothing_changed_is_a_warning_with_the_engines_reason(reason):
+    stats = dict(STATS, result=1, unchanged_reason=unchanged_reasons()[reason],
+                 result_message="Returned the input unchanged: no iterate lowered its curvature.",
+                 mean_defect_after=0.01, change_percent=0.0)
     level, verdict, message = checks.verdict("torus", stats, dict(FIG, max_move=0.0))
     assert (level, verdict) == ("WARNING", "UNCHANGED")
     assert "no iterate lowered its curvature)" in message and "Try" in message

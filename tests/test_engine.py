@@ -34,6 +34,7 @@ def test_a_flat_mesh_nothing_improves_comes_back_unchanged_and_says_so(library):
     s = result.stats
     assert s["flat_share_before"] == 1.0
     assert s["result"] == native.RESULT_UNCHANGED, s
+    assert s["unchanged_reason"] == native.UNCHANGED_ALREADY_FLAT, s["result_message"]
     assert "already flat" in s["result_message"], s["result_message"]
     assert np.array_equal(result.positions, positions)
 

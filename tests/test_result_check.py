@@ -42,12 +42,12 @@ def check_honest(positions, triangles, result):
     assert s["flat_share_after"] >= s["flat_share_before"]
     if s["result"] == native.RESULT_UNCHANGED:
         assert np.array_equal(result.positions, positions)
-        assert s["result_message"]
+        assert s["result_message"] and s["unchanged_reason"] != native.UNCHANGED_NONE
         # Nothing of a polish that was not kept is reported (boat showed
         # "Angle polish: 11 steps" under "Nothing changed").
         assert s["polish_iterations"] == 0 and s["polished_from_input"] == 0
     else:
-        assert s["result"] == native.RESULT_IMPROVED
+        assert s["result"] == native.RESULT_IMPROVED and s["unchanged_reason"] == native.UNCHANGED_NONE
         # A gain the user sees, not rounding (the engine's kLeastGain).
         assert s["mean_defect_after"] < (1 - 1e-6) * s["mean_defect_before"] or \
             s["flat_share_after"] > s["flat_share_before"]
@@ -66,6 +66,7 @@ def test_a_developable_mesh_comes_back_unchanged_and_says_so():
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
     assert result.stats["result"] == native.RESULT_UNCHANGED
+    assert result.stats["unchanged_reason"] == native.UNCHANGED_ALREADY_DEVELOPABLE
     assert "already developable" in result.stats["result_message"]
 
 
@@ -176,6 +177,7 @@ def test_a_piecewise_developable_mesh_is_said_so(seed):
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
     assert result.stats["result"] == native.RESULT_UNCHANGED
+    assert result.stats["unchanged_reason"] == native.UNCHANGED_DEVELOPABLE_PIECEWISE
     assert "already developable piecewise" in result.stats["result_message"]
     # Its score (the median |defect| inside the patches) is 0 and cannot
     # gain: the run stalls instead of going to the iteration limit.
@@ -204,6 +206,7 @@ def test_a_torus_of_cone_frusta_is_said_developable_piecewise():
     positions, triangles = ring_torus(48, 16, 0.35, stagger=0.0)
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
+    assert result.stats["unchanged_reason"] == native.UNCHANGED_DEVELOPABLE_PIECEWISE
     assert "already developable piecewise" in result.stats["result_message"]
 
 
@@ -215,6 +218,7 @@ def test_piecewise_developable_is_not_said_of_a_torus_that_is_not(seed):
                                       rng.uniform(0.2, 0.6), stagger=1.0)
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
+    assert result.stats["unchanged_reason"] != native.UNCHANGED_DEVELOPABLE_PIECEWISE
     assert "already developable piecewise" not in result.stats["result_message"]
 
 

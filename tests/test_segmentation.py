@@ -99,7 +99,7 @@ def test_a_lobster_back_elbow_is_found_developable_piecewise(library, seed):
     positions, triangles = meshes.lobster_elbow(np.random.default_rng(seed), turns_degrees=(20.0, 45.0))
     result = native.run(positions, triangles)
     assert result.stats["result"] == native.RESULT_UNCHANGED
-    assert "already developable piecewise" in result.stats["result_message"]
+    assert result.stats["unchanged_reason"] == native.UNCHANGED_DEVELOPABLE_PIECEWISE
 
 
 def test_an_open_whole_object_keeps_its_automatic_patches(library, meshes_dir):

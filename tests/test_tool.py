@@ -57,6 +57,17 @@ def test_run_with_report_and_pins(tool_path, tmp_path):
     assert np.abs(out_positions - positions).max() <= 10 * stats["average_edge_length"] + 1e-12
 
 
+def test_report_says_why_the_input_came_back(tool_path, tmp_path):
+    positions, triangles = meshes.plane()
+    source, report = tmp_path / "plane.obj", tmp_path / "r.json"
+    write_obj(source, positions, triangles)
+    run = run_tool(tool_path, source, tmp_path / "out.obj", "--report", report)
+    assert run.returncode == 0, run.stderr
+    assert "result unchanged (already_developable)" in run.stderr
+    stats = json.loads(report.read_text())["stats"]
+    assert stats["result"] == "unchanged" and stats["unchanged_reason"] == "already_developable"
+
+
 def test_quiet_prints_nothing(tool_path, tmp_path):
     positions, triangles = meshes.noisy_cylinder_patch()
     source = tmp_path / "in.obj"

@@ -131,6 +131,18 @@ const char* stop_reason_name(int32_t reason) {
   }
 }
 
+const char* unchanged_reason_name(int32_t reason) {
+  switch (reason) {
+    case DEV_UNCHANGED_ALREADY_DEVELOPABLE: return "already_developable";
+    case DEV_UNCHANGED_DEVELOPABLE_PIECEWISE: return "developable_piecewise";
+    case DEV_UNCHANGED_ALREADY_FLAT: return "already_flat";
+    case DEV_UNCHANGED_NO_VISIBLE_GAIN: return "no_visible_gain";
+    case DEV_UNCHANGED_NO_BETTER_ITERATE: return "no_better_iterate";
+    case DEV_UNCHANGED_REJECTED: return "rejected";
+    default: return "none";
+  }
+}
+
 std::string json_number(double value) {
   if (!std::isfinite(value)) return "null";
   std::ostringstream s;
@@ -234,6 +246,7 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
        << ", \"polished_from_input\": " << (s.polished_from_input ? "true" : "false")
        << ", \"input_smoothed\": " << (s.input_smoothed ? "true" : "false")
        << ", \"result\": \"" << (s.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved") << "\""
+       << ", \"unchanged_reason\": \"" << unchanged_reason_name(s.unchanged_reason) << "\""
        << ", \"faces_turned_over\": " << s.faces_turned_over
        << ", \"flat_share_before\": " << json_number(s.flat_share_before)
        << ", \"flat_share_after\": " << json_number(s.flat_share_after)
@@ -429,10 +442,12 @@ int main(int argc, char** argv) {
                  stats.polished_from_input ? (stats.input_smoothed ? " (of the smoothed input)" : " (of the input)") : "", stats.max_vertex_move,
                  stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
                  stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
+    const std::string result_kind = stats.result == DEV_RESULT_UNCHANGED
+                                        ? std::string("unchanged (") + unchanged_reason_name(stats.unchanged_reason) + ")"
+                                        : "improved";
     std::fprintf(stderr, "flat %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
                  100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after,
-                 static_cast<long long>(stats.faces_turned_over),
-                 stats.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved");
+                 static_cast<long long>(stats.faces_turned_over), result_kind.c_str());
     if (!pattern_file.empty())
       std::fprintf(stderr,
                    "pattern: %lld pieces on %lld sheets at scale %g, %lld seams, %lld cut edges, "

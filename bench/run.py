@@ -43,6 +43,18 @@ def log(message):
 
 # ---------------------------------------------------------------- cases
 
+# The < 50 ms target's setup of the curved cone in the paper tables (the issue's:
+# refit mode, boundary pinned, E_allow 10 AE, omega 5).
+PINNED_CONE = ("curved_cone", "refit", 10.0, 5.0)
+
+
+def target_repeat(args):
+    """Runs of a case a speed target is judged on: their median. Small runs
+    here vary by tens of percent with the machine's load (the pinned curved
+    cone 37-55 ms from run to run), so three runs decide by chance."""
+    return 1 if args.quick else max(args.repeat, 7)
+
+
 def plan(args):
     """The list of cases: dicts with section, label, mesh spec, params."""
     cases = []
@@ -68,10 +80,11 @@ def plan(args):
                 add("paper_tables", title, {"named": name},
                     {"mode": mode, "tolerance": e_allow, "max_move": 0.0, "omega": omega,
                      "pin_boundary": 1},
-                    table=name, e_allow=e_allow, omega=omega, mode=mode, repeat=args.repeat)
+                    table=name, e_allow=e_allow, omega=omega, mode=mode,
+                    repeat=target_repeat(args) if (name, mode, e_allow, omega) == PINNED_CONE else args.repeat)
     # The paper's two models with the defaults (the < 50 ms target), then the real meshes.
     for name, title in (("curved_cone", "curved cone"), ("skirt", "skirt")):
-        add("real", title, {"named": name}, repeat=max(args.repeat, 5) if not args.quick else 1)
+        add("real", title, {"named": name}, repeat=target_repeat(args))
     for name in shared:
         add("real", name[:-4], {"file": str(SHARED / name)}, repeat=args.repeat)
     # Generated meshes of growing size, defaults (1M last: the slowest).

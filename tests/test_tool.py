@@ -64,6 +64,8 @@ def test_report_says_why_the_input_came_back(tool_path, tmp_path):
     run = run_tool(tool_path, source, tmp_path / "out.obj", "--report", report)
     assert run.returncode == 0, run.stderr
     assert "result unchanged (already_developable)" in run.stderr
+    # Nothing to do is no failure: a note, not a warning.
+    assert "note: The mesh is already developable" in run.stderr and "WARNING" not in run.stderr
     stats = json.loads(report.read_text())["stats"]
     assert stats["result"] == "unchanged" and stats["unchanged_reason"] == "already_developable"
 

@@ -72,7 +72,8 @@ const char* const usage_text =
     "\n"
     "The output is never folded or worse than the input (mean |defect|, flat share):\n"
     "when no such result exists the input is written unchanged and a line\n"
-    "'WARNING: ...' on stderr says why (also with --quiet).\n"
+    "'WARNING: ...' on stderr says why (also with --quiet); an input that is\n"
+    "developable already is written unchanged with a line 'note: ...'.\n"
     "\n"
     "Exit status: 0 done, 1 bad usage or file error, 2 the engine refused the mesh.\n";
 
@@ -457,8 +458,12 @@ int main(int argc, char** argv) {
                    static_cast<long long>(pattern_stats.cut_edges), static_cast<long long>(pattern_stats.splits),
                    100 * pattern_stats.max_strain, 100 * pattern_stats.mean_strain, pattern_stats.time_total_ms);
   }
-  // Even with --quiet: the user must know when the output is the input, or a figure got worse.
+  // Even with --quiet: the user must know when the output is the input, or a
+  // figure got worse. An input that was developable already is no failure.
+  const bool nothing_to_do = stats.unchanged_reason == DEV_UNCHANGED_ALREADY_DEVELOPABLE ||
+                             stats.unchanged_reason == DEV_UNCHANGED_DEVELOPABLE_PIECEWISE ||
+                             stats.unchanged_reason == DEV_UNCHANGED_ALREADY_FLAT;
   if (stats.result == DEV_RESULT_UNCHANGED || stats.result_message[0] != '\0')
-    std::fprintf(stderr, "WARNING: %s\n", stats.result_message);
+    std::fprintf(stderr, "%s: %s\n", nothing_to_do ? "note" : "WARNING", stats.result_message);
   return 0;
 }

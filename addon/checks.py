@@ -195,10 +195,12 @@ def verdict(obj_name, stats, fig):
             # Nothing got worse and nothing is left to try. The engine's words
             # have their own line in the panel.
             return 'INFO', 'DEVELOPABLE', "%s: nothing to do, %s." % (obj_name, nothing_to_do)
-        why = engine_said.rstrip(". ") or "no better shape was found within the limits"
+        # The engine's reason after ENGINE_WORDS: the panel shows it once, on
+        # its own line, and the report line keeps it.
+        why = engine_said.strip() or "no better shape was found within the limits."
         return 'WARNING', 'UNCHANGED', (
-            "%s: nothing changed (%s). Try a larger 'Shape May Move', or the job 'Whole object "
-            "into pieces' for a closed object." % (obj_name, why))
+            "%s: nothing changed. Try a larger 'Shape May Move', or the job 'Whole object into "
+            "pieces' for a closed object.%s%s" % (obj_name, ENGINE_WORDS, why))
     worse = []
     if e1 > e0 * (1.0 + 1e-9):
         worse.append("the mean curvature grew (%+.1f %%)" % stats["change_percent"])

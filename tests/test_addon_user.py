@@ -27,8 +27,8 @@ def user_scenario(env, name):
 # another in one start-up of each Blender ("batch"; the start-up, not the
 # scenario, is most of a run's time on the bpy wheels). "worse" runs alone:
 # its test reads the warning in that run's own console output.
-BATCH = ("presets", "better", "menu_uses_panel", "shape_key", "scaled", "non_manifold",
-         "shared_triangle", "several", "gauss")
+BATCH = ("presets", "better", "developable", "menu_uses_panel", "shape_key", "scaled",
+         "non_manifold", "shared_triangle", "several", "gauss")
 
 
 @pytest.fixture(scope="module")
@@ -88,6 +88,19 @@ def test_a_better_result_is_reported_in_the_users_terms(batch):
     assert 0 < rec["move_percent"] <= 1.0 + 1e-6   # the General job: at most 1 % of the size
     assert "flat" in rec["message"] and "% of its size" in rec["message"]
     assert r["key_value"] == 1.0
+
+
+def test_an_already_developable_mesh_is_said_so_without_advice(batch):
+    """A flat grid and an open box of grids: nothing to do is no failure, so no
+    warning and nothing to try; the panel reads 'Already developable'."""
+    r = batched(batch, "developable")
+    for name, words in (("plane", "it is already developable."),
+                        ("box", "it is already developable piecewise")):
+        rec = r[name]["record"]
+        assert r[name]["result"] == ["FINISHED"], r[name]["error"]
+        assert rec["verdict"] == "DEVELOPABLE", rec["message"]
+        assert rec["message"].startswith("%s: nothing to do, %s" % (name, words)), rec["message"]
+        assert "Try" not in rec["message"] and rec["move_percent"] == 0.0
 
 
 def test_the_menu_entry_uses_the_panels_values(batch):

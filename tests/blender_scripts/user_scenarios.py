@@ -96,6 +96,25 @@ def torus(n_major=48, n_minor=16, R=1.0, r=0.35):
     return pts, quads
 
 
+def open_box(n=4, size=(2.0, 1.5, 1.0)):
+    """A box without its bottom, each side a grid of n x n quads, outward
+    normals: developable piecewise (its curvature on the edges and corners)."""
+    a, b, h = size
+    u, v = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1), indexing="ij")
+    u, v, zero, one = u.ravel(), v.ravel(), np.zeros(u.size), np.ones(u.size)
+    sides = [np.c_[u * a, v * b, one * h],     # top: du x dv = +z
+             np.c_[u * a, zero, v * h],        # front: -y
+             np.c_[v * a, one * b, u * h],     # back: +y
+             np.c_[zero, v * b, u * h],        # left: -x
+             np.c_[one * a, u * b, v * h]]     # right: +x
+    k = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+    quad = np.stack([k[:-1, :-1], k[1:, :-1], k[1:, 1:], k[:-1, 1:]], -1).reshape(-1, 4)
+    points = np.vstack(sides)
+    faces = np.vstack([quad + s * (n + 1) ** 2 for s in range(len(sides))])
+    welded, index = np.unique(np.round(points, 9), axis=0, return_inverse=True)
+    return welded, index.ravel()[faces]
+
+
 def coords(me):
     a = np.empty(len(me.vertices) * 3, dtype=np.float32)
     me.vertices.foreach_get("co", a)
@@ -202,6 +221,24 @@ def s_better():
     res, err = run()
     kb = ob.data.shape_keys.key_blocks["Developable"]
     emit({"result": res, "error": err, "record": record(ob), "key_value": kb.value})
+
+
+def s_developable():
+    """Meshes with nothing to do: a flat grid and a box without its bottom."""
+    out = {}
+    x, y = np.meshgrid(np.linspace(0, 2, 7), np.linspace(0, 1.5, 6), indexing="ij")
+    k = np.arange(x.size).reshape(x.shape)
+    plane = (np.c_[x.ravel(), y.ravel(), np.zeros(x.size)],
+             np.stack([k[:-1, :-1], k[1:, :-1], k[1:, 1:], k[:-1, 1:]], -1).reshape(-1, 4))
+    shapes = {"plane": plane, "box": open_box()}
+    for name, (verts, faces) in shapes.items():
+        clear()
+        ob = make_object(name, verts, faces)
+        res, err = run()
+        kb = ob.data.shape_keys.key_blocks.get("Developable") if ob.data.shape_keys else None
+        out[name] = {"result": res, "error": err, "record": record(ob),
+                     "key_value": kb.value if kb else None}
+    emit(out)
 
 
 def s_menu_uses_panel():

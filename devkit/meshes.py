@@ -185,11 +185,17 @@ def lobster_elbow(rng, turns_degrees=(10.0, 40.0), pieces=(2, 6)):
     each turning by an angle drawn from `turns_degrees` (a range) from the
     last, in one plane, joined by mitres
     (every joint ring lies in the plane that halves the turn), 16-48 columns
-    around, 2-6 rings along each piece, drawn from the numpy Generator `rng`.
-    Developable piecewise: its curvature sits on the mitre rings only."""
+    around, 2-6 rings along each piece, drawn from the numpy Generator `rng`;
+    no two mitres cross. Developable piecewise: its curvature sits on the
+    mitre rings only."""
     pieces, around = int(rng.integers(pieces[0], pieces[1] + 1)), int(rng.integers(16, 49))
     turns = np.radians(rng.uniform(*turns_degrees, pieces - 1))
     lengths = rng.uniform(0.5, 2.0, pieces)
+    # A mitre reaches tan(turn / 2) along the axis at the pipe's wall: a piece
+    # is long enough for its two mitres not to cross, with a quarter of the
+    # radius of straight wall between them.
+    reach = np.tan(turns / 2)
+    lengths = np.maximum(lengths, np.r_[reach, 0.0] + np.r_[0.0, reach] + 0.25)
     along = [int(rng.integers(2, 7)) for _ in range(pieces)]
     normal = np.array([0.0, 0.0, 1.0])  # of the bend's plane
     u = np.linspace(0, 2 * np.pi, around, endpoint=False)

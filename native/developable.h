@@ -67,7 +67,9 @@ enum {
 
 /* Why the iteration stopped (dev_stats.stop_reason). */
 enum {
-  DEV_STOP_ALREADY_DEVELOPABLE = 0, /* mean |defect| already below developable_threshold: mesh untouched */
+  DEV_STOP_ALREADY_DEVELOPABLE = 0, /* nothing to deform, mesh untouched: mean |defect| already below
+                                       developable_threshold, or the curvature on cuts that part the
+                                       mesh into pieces flat inside (dev_stats.unchanged_reason) */
   DEV_STOP_CONVERGED = 1,           /* mean |defect| changed by less than stop_relative_change
                                        (not on a segmented mesh in the refit mode, which stops
                                        by stalling) */
@@ -92,8 +94,10 @@ enum {
   DEV_UNCHANGED_NONE = 0,                  /* the result is DEV_RESULT_IMPROVED */
   DEV_UNCHANGED_ALREADY_DEVELOPABLE = 1,   /* mean |defect| below developable_threshold */
   DEV_UNCHANGED_DEVELOPABLE_PIECEWISE = 2, /* every vertex inside the patches is flat (|defect| <
-                                              1e-3 rad) and every patch fits its cone: the
-                                              curvature sits on the seams */
+                                              1e-3 rad): the curvature sits on the seams. The
+                                              patches are the pieces the curvature cuts the mesh
+                                              into (a lobster-back elbow), or the segmentation's,
+                                              each fitting its cone */
   DEV_UNCHANGED_ALREADY_FLAT = 3,          /* every interior vertex is flat already and no iterate
                                               lowered the curvature further */
   DEV_UNCHANGED_NO_VISIBLE_GAIN = 4,       /* the best result made no vertex flat and did not lower

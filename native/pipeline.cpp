@@ -3,6 +3,7 @@
 #include "anderson_acceleration.h"
 #include "concurrent_jobs.h"
 #include "cone_fit.h"
+#include "developable_pieces.h"
 #include "jet_denoise.h"
 #include "measures.h"
 #include "memory_budget.h"
@@ -1034,6 +1035,9 @@ struct MeasuredInput {
   Normals normals;             // per face
   Eigen::VectorXd areas;       // per face
   bool closed = false;         // no boundary edge
+  // Its curvature sits on cuts that part it into pieces flat inside
+  // (developable_pieces.h): the patches are those pieces, and nothing is to do.
+  bool developable_as_cut = false;
 };
 
 // Of two results of one input, whether `a` is the more developable by the
@@ -1107,6 +1111,16 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     stats.stop_reason = StopReason::already_developable;
     stats.unchanged_reason = UnchangedReason::already_developable;
     stats.result_message = "The mesh is already developable: returned unchanged.";
+    stats.time_total_ms = elapsed_ms(start_time);
+    progress.report(1.0, "done");
+    return result;
+  }
+  if (input_measures.developable_as_cut) {
+    stats.stop_reason = StopReason::already_developable;
+    Rejections pieces;
+    pieces.developable_patches = true;
+    stats.unchanged_reason = unchanged_reason(pieces, stats);
+    stats.result_message = unchanged_message(pieces, stats);
     stats.time_total_ms = elapsed_ms(start_time);
     progress.report(1.0, "done");
     return result;
@@ -1534,6 +1548,18 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   // Patches and their first curves (stages 3-6).
   progress.report(0.02, "ideal curve");
   if (options.segmentation == 0) return deform_patches(input, one_patch(input.normals, input.areas, options), progress);
+  // Developable piecewise as it stands, its curvature on cuts that part it
+  // (a lobster-back elbow's mitres, which segmentation's cone fits cut
+  // across): those pieces are the patches, returned as they are.
+  if (input.before.mean_abs > options.developable_threshold) {
+    if (std::optional<std::vector<int>> pieces = developable_pieces(
+            triangles, connectivity, measured.interior, measured.defect_before, kFlatDefect)) {
+      const int count = 1 + *std::max_element(pieces->begin(), pieces->end());
+      input.developable_as_cut = true;
+      return deform_patches(input, fitted_patches(std::move(*pieces), count, input.normals, input.areas, options),
+                            progress);
+    }
+  }
   Patches single;
   if (options.segmentation == -1) {
     single = one_patch(input.normals, input.areas, options);

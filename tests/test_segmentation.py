@@ -89,17 +89,20 @@ def test_an_open_pipe_elbow_comes_back_flatter(library, seed):
         assert "largest |defect| grew" in s["result_message"]
 
 
-@pytest.mark.xfail(strict=True, reason="segmentation cuts lobster-back elbows into strips across "
-                   "their mitres (docs/segmentation.md, Limits)")
-@pytest.mark.parametrize("seed", [0, 1])
+@pytest.mark.parametrize("seed", range(300, 308))
 def test_a_lobster_back_elbow_is_found_developable_piecewise(library, seed):
-    """Cylinder pieces joined by mitres: each piece should be a patch, so
-    that every vertex inside the patches is flat and the engine says the
-    mesh is developable piecewise."""
-    positions, triangles = meshes.lobster_elbow(np.random.default_rng(seed), turns_degrees=(20.0, 45.0))
+    """Cylinder pieces joined by mitres: segmentation's cone fits cut across
+    the mitres (at their sides the cylinders are tangent); the cuts along the
+    curvature (developable_pieces.h) find one patch per cylinder, so the
+    engine says the mesh is developable piecewise and returns it as it is.
+    Tuned on seeds 0-39, 100-139 and 200-229; these are held out."""
+    pieces = int(np.random.default_rng(seed).integers(2, 7))  # the generator's first draw
+    positions, triangles = meshes.lobster_elbow(np.random.default_rng(seed), turns_degrees=(10.0, 60.0))
     result = native.run(positions, triangles)
-    assert result.stats["result"] == native.RESULT_UNCHANGED
-    assert result.stats["unchanged_reason"] == native.UNCHANGED_DEVELOPABLE_PIECEWISE
+    s = result.stats
+    assert s["result"] == native.RESULT_UNCHANGED and np.array_equal(result.positions, positions)
+    assert s["unchanged_reason"] == native.UNCHANGED_DEVELOPABLE_PIECEWISE, s["result_message"]
+    assert s["patches"] == pieces and len(np.unique(result.patch_ids)) == pieces
 
 
 def test_an_open_whole_object_keeps_its_automatic_patches(library, meshes_dir):

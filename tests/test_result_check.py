@@ -180,8 +180,11 @@ def test_a_piecewise_developable_mesh_is_said_so(seed):
     assert result.stats["unchanged_reason"] == native.UNCHANGED_DEVELOPABLE_PIECEWISE
     assert "already developable piecewise" in result.stats["result_message"]
     # Its score (the median |defect| inside the patches) is 0 and cannot
-    # gain: the run stalls instead of going to the iteration limit.
-    assert native.STOP_REASONS[result.stats["stop_reason"]] == "stalled"
+    # gain: the run stalls instead of going to the iteration limit, or does not
+    # start when the corners' curvature cuts the box into its sides
+    # (developable_pieces.h: along an edge two cells long, whose middle vertex
+    # sits between two corners).
+    assert native.STOP_REASONS[result.stats["stop_reason"]] in ("stalled", "already developable")
 
 
 def ring_torus(n_major, n_minor, r, stagger):

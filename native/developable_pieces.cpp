@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <utility>
 
 namespace developable {
@@ -74,17 +75,21 @@ std::optional<std::vector<int>> developable_pieces(const Triangles& triangles, c
         gap_edges.emplace_back(static_cast<int>(f), g);
     }
   }
+  // The piece (root face) holding all of an interior vertex's faces, or -1.
+  const auto piece_around = [&](Eigen::Index v) {
+    const int piece = pieces.find(*connectivity.begin(v));
+    for (const int* f = connectivity.begin(v); f != connectivity.end(v); ++f)
+      if (pieces.find(*f) != piece) return -1;
+    return piece;
+  };
   // Whether the piece of each root face has an inside vertex: interior,
   // flat, with all its faces in that piece; `strict`: not on a cut either.
   const auto pieces_with_inside = [&](bool strict) {
     std::vector<bool> inside(static_cast<size_t>(faces), false);
     for (Eigen::Index v = 0; v < n; ++v) {
       if (!interior[static_cast<size_t>(v)] || (strict ? on_cut : curved)[static_cast<size_t>(v)]) continue;
-      const int piece = pieces.find(*connectivity.begin(v));
-      bool one_piece = true;
-      for (const int* f = connectivity.begin(v); f != connectivity.end(v) && one_piece; ++f)
-        one_piece = pieces.find(*f) == piece;
-      if (one_piece) inside[static_cast<size_t>(piece)] = true;
+      const int piece = piece_around(v);
+      if (piece >= 0) inside[static_cast<size_t>(piece)] = true;
     }
     return inside;
   };
@@ -102,32 +107,31 @@ std::optional<std::vector<int>> developable_pieces(const Triangles& triangles, c
     if (!inside[static_cast<size_t>(pf)] && !inside[static_cast<size_t>(pg)]) pieces.unite(pf, pg);
   }
   inside = pieces_with_inside(true);
-  std::vector<std::vector<int>> hosts(static_cast<size_t>(faces));  // per root without inside, in edge order
+  std::map<int, std::vector<int>> hosts;  // per root without inside: pieces with one, in edge order
   for (const auto& [f, g] : gap_edges) {
     const int pf = pieces.find(f), pg = pieces.find(g);
-    if (!inside[static_cast<size_t>(pf)] && inside[static_cast<size_t>(pg)]) hosts[static_cast<size_t>(pf)].push_back(pg);
-    if (!inside[static_cast<size_t>(pg)] && inside[static_cast<size_t>(pf)]) hosts[static_cast<size_t>(pg)].push_back(pf);
+    if (!inside[static_cast<size_t>(pf)] && inside[static_cast<size_t>(pg)]) hosts[pf].push_back(pg);
+    if (!inside[static_cast<size_t>(pg)] && inside[static_cast<size_t>(pf)]) hosts[pg].push_back(pf);
   }
-  std::vector<std::vector<int>> curved_of(static_cast<size_t>(faces));  // curved vertices of each such piece
-  for (Eigen::Index f = 0; f < faces; ++f) {
-    const int root = pieces.find(static_cast<int>(f));
-    if (hosts[static_cast<size_t>(root)].empty()) continue;
-    for (int c = 0; c < 3; ++c)
-      if (curved[static_cast<size_t>(triangles(f, c))]) curved_of[static_cast<size_t>(root)].push_back(triangles(f, c));
-  }
+  std::map<int, std::vector<int>> curved_of;  // the curved vertices of each of those roots
   std::vector<int> root_of(static_cast<size_t>(faces));  // the roots before any joining below
-  for (Eigen::Index f = 0; f < faces; ++f) root_of[static_cast<size_t>(f)] = pieces.find(static_cast<int>(f));
-  for (Eigen::Index piece = 0; piece < faces; ++piece) {
-    for (int host : hosts[static_cast<size_t>(piece)]) {
+  for (Eigen::Index f = 0; f < faces; ++f) {
+    const int root = root_of[static_cast<size_t>(f)] = pieces.find(static_cast<int>(f));
+    if (hosts.count(root) == 0) continue;
+    for (int c = 0; c < 3; ++c)
+      if (curved[static_cast<size_t>(triangles(f, c))]) curved_of[root].push_back(triangles(f, c));
+  }
+  for (const auto& [piece, candidates] : hosts) {
+    for (int host : candidates) {
       bool keeps_cuts = true;
-      for (int v : curved_of[static_cast<size_t>(piece)]) {
+      for (int v : curved_of[piece]) {
         bool within = true;
         for (const int* f = connectivity.begin(v); f != connectivity.end(v) && within; ++f)
           within = root_of[static_cast<size_t>(*f)] == piece || root_of[static_cast<size_t>(*f)] == host;
         keeps_cuts = keeps_cuts && !within;
       }
       if (keeps_cuts) {
-        pieces.unite(static_cast<int>(piece), host);
+        pieces.unite(piece, host);
         break;
       }
     }
@@ -137,14 +141,8 @@ std::optional<std::vector<int>> developable_pieces(const Triangles& triangles, c
   inside = pieces_with_inside(false);
   for (Eigen::Index f = 0; f < faces; ++f)
     if (pieces.find(static_cast<int>(f)) == f && !inside[static_cast<size_t>(f)]) return std::nullopt;
-  for (Eigen::Index v = 0; v < n; ++v) {
-    if (!curved[static_cast<size_t>(v)]) continue;
-    const int piece = pieces.find(*connectivity.begin(v));
-    bool one_piece = true;
-    for (const int* f = connectivity.begin(v); f != connectivity.end(v) && one_piece; ++f)
-      one_piece = pieces.find(*f) == piece;
-    if (one_piece) return std::nullopt;  // curvature left inside a piece
-  }
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (curved[static_cast<size_t>(v)] && piece_around(v) >= 0) return std::nullopt;  // curvature inside a piece
   // Roots are each piece's smallest face: numbered in face order.
   std::vector<int> ids(static_cast<size_t>(faces), -1);
   int count = 0;

@@ -495,8 +495,9 @@ std::string unchanged_message(const Rejections& r, const PipelineStats& stats) {
     case UnchangedReason::no_better_iterate:
       return "Returned the input unchanged: no iterate lowered its curvature. Try a larger "
              "tolerance or more iterations.";
+    case UnchangedReason::already_developable:
+      return "The mesh is already developable: returned unchanged.";
     case UnchangedReason::none:
-    case UnchangedReason::already_developable:  // worded where the run returns early
     case UnchangedReason::rejected:
       break;
   }
@@ -672,6 +673,9 @@ struct Patches {
   PatchFaces faces;
   std::vector<PatchCurve> curves;
   Normals targets;  // of the input's normals
+  // The pieces the mesh's curvature cuts it into, each flat inside
+  // (developable_pieces.h): nothing to deform.
+  bool developable = false;
 };
 
 // Patches with ids `ids` (0 .. count-1 per face), their curves and targets.
@@ -1035,9 +1039,6 @@ struct MeasuredInput {
   Normals normals;             // per face
   Eigen::VectorXd areas;       // per face
   bool closed = false;         // no boundary edge
-  // Its curvature sits on cuts that part it into pieces flat inside
-  // (developable_pieces.h): the patches are those pieces, and nothing is to do.
-  bool developable_as_cut = false;
 };
 
 // Of two results of one input, whether `a` is the more developable by the
@@ -1075,6 +1076,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
 
   stats.patches = patches.count;
   result.patch_ids = patches.ids;
+  const bool patches_developable = patches.developable;
   // The refit mode treats a segmented mesh as pieces meeting at seams: it is
   // scored inside its patches, where the curvature should leave (see
   // IterateScore), and its targets are smoothed. The paper mode stays the
@@ -1107,20 +1109,11 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   };
   return_input();
   stats.result = ResultKind::unchanged;
-  if (before.mean_abs <= options.developable_threshold) {
+  if (before.mean_abs <= options.developable_threshold || patches_developable) {
     stats.stop_reason = StopReason::already_developable;
-    stats.unchanged_reason = UnchangedReason::already_developable;
-    stats.result_message = "The mesh is already developable: returned unchanged.";
-    stats.time_total_ms = elapsed_ms(start_time);
-    progress.report(1.0, "done");
-    return result;
-  }
-  if (input_measures.developable_as_cut) {
-    stats.stop_reason = StopReason::already_developable;
-    Rejections pieces;
-    pieces.developable_patches = true;
-    stats.unchanged_reason = unchanged_reason(pieces, stats);
-    stats.result_message = unchanged_message(pieces, stats);
+    stats.unchanged_reason =
+        patches_developable ? UnchangedReason::developable_piecewise : UnchangedReason::already_developable;
+    stats.result_message = unchanged_message(Rejections{}, stats);
     stats.time_total_ms = elapsed_ms(start_time);
     progress.report(1.0, "done");
     return result;
@@ -1555,9 +1548,9 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
     if (std::optional<std::vector<int>> pieces = developable_pieces(
             triangles, connectivity, measured.interior, measured.defect_before, kFlatDefect)) {
       const int count = 1 + *std::max_element(pieces->begin(), pieces->end());
-      input.developable_as_cut = true;
-      return deform_patches(input, fitted_patches(std::move(*pieces), count, input.normals, input.areas, options),
-                            progress);
+      Patches developable = fitted_patches(std::move(*pieces), count, input.normals, input.areas, options);
+      developable.developable = true;
+      return deform_patches(input, std::move(developable), progress);
     }
   }
   Patches single;

@@ -294,9 +294,9 @@ def _pct(x):
 def draw_result(layout, context, obj):
     rec = obj.developable
     col = layout.column(align=True)
-    icon = {'IMPROVED': 'CHECKMARK', 'WORSE': 'ERROR', 'UNCHANGED': 'INFO', 'DEVELOPABLE': 'CHECKMARK'}[rec.verdict]
-    title = {'IMPROVED': "Improved", 'WORSE': "A figure got worse", 'UNCHANGED': "Nothing changed",
-             'DEVELOPABLE': "Already developable"}[rec.verdict]
+    title, icon = {'IMPROVED': ("Improved", 'CHECKMARK'), 'WORSE': ("A figure got worse", 'ERROR'),
+                   'UNCHANGED': ("Nothing changed", 'INFO'),
+                   'DEVELOPABLE': ("Already developable", 'CHECKMARK')}[rec.verdict]
     col.label(text=title, icon=icon)
     if rec.verdict != 'IMPROVED':
         box = layout.box().column(align=True)

@@ -180,6 +180,57 @@ def pipe_elbow(rng):
     return positions, grid_triangles(rings, around, wrap=True)
 
 
+def open_box(rng):
+    """A box without a lid, random in proportions and in the grid each side is
+    cut into: developable piecewise, its curvature on the edges and corners."""
+    size = rng.uniform(0.5, 3.0, 3)
+    cells = rng.integers(2, 9, 3)
+    points, tris, index = [], [], {}
+
+    def vertex(p):
+        key = tuple(np.round(p, 9))
+        if key not in index:
+            index[key] = len(points)
+            points.append(p)
+        return index[key]
+
+    # each side: an origin corner and two edge vectors (outward normal = e1 x e2)
+    x, y, z = np.diag(size)
+    sides = [(np.zeros(3), y, x, (1, 0)), (np.zeros(3), x, z, (0, 2)), (y, z, x, (2, 0)),
+             (np.zeros(3), z, y, (2, 1)), (x, y, z, (1, 2))]
+    for origin, e1, e2, (a, b) in sides:
+        n1, n2 = cells[a], cells[b]
+        grid = [[vertex(origin + e1 * i / n1 + e2 * j / n2) for j in range(n2 + 1)] for i in range(n1 + 1)]
+        for i in range(n1):
+            for j in range(n2):
+                tris += [(grid[i][j], grid[i + 1][j], grid[i + 1][j + 1]),
+                         (grid[i][j], grid[i + 1][j + 1], grid[i][j + 1])]
+    return np.array(points), np.array(tris, dtype=np.int32)
+
+
+def ring_torus_quads(n_major=48, n_minor=16, r=0.35, stagger=1.0):
+    """A torus (major radius 1) of n_major rings of n_minor quads, minor radius
+    r; `stagger` turns every other ring by that much of half a step. Aligned
+    (0), each ring of quads is a cone frustum (developable piecewise); turned
+    (1), no ring is. Returns (points, quads)."""
+    a = np.linspace(0, 2 * np.pi, n_major, endpoint=False)
+    b = np.linspace(0, 2 * np.pi, n_minor, endpoint=False)
+    A, B = np.meshgrid(a, b, indexing="ij")
+    A = A + stagger * (np.pi / n_major) * (np.arange(n_minor) % 2)
+    points = np.stack([(1 + r * np.cos(B)) * np.cos(A), (1 + r * np.cos(B)) * np.sin(A), r * np.sin(B)],
+                      -1).reshape(-1, 3)
+    idx = np.arange(n_major * n_minor).reshape(n_major, n_minor)
+    right, up = np.roll(idx, -1, axis=0), np.roll(idx, -1, axis=1)
+    corner = np.roll(right, -1, axis=1)
+    return points, np.stack([idx, right, corner, up], -1).reshape(-1, 4)
+
+
+def ring_torus(n_major, n_minor, r, stagger):
+    """ring_torus_quads split into triangles (each quad along its first diagonal)."""
+    points, quads = ring_torus_quads(n_major, n_minor, r, stagger)
+    return points, np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]).astype(np.int32)
+
+
 def lobster_elbow(rng, turns_degrees=(10.0, 40.0), pieces=(2, 6)):
     """A lobster-back pipe elbow: 2-6 (the range `pieces`) straight cylinder pieces of radius 1,
     each turning by an angle drawn from `turns_degrees` (a range) from the

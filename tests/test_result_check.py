@@ -140,32 +140,6 @@ def test_a_capped_solid_is_not_moved_for_nothing(seed):
     assert result.stats["result_message"].startswith("Returned the input unchanged")
 
 
-def open_box(rng):
-    """A box without a lid, random in proportions and in the grid each side is
-    cut into: developable piecewise, its curvature on the edges and corners."""
-    size = rng.uniform(0.5, 3.0, 3)
-    cells = rng.integers(2, 9, 3)
-    points, tris, index = [], [], {}
-
-    def vertex(p):
-        key = tuple(np.round(p, 9))
-        if key not in index:
-            index[key] = len(points)
-            points.append(p)
-        return index[key]
-
-    # each side: an origin corner and two edge vectors (outward normal = e1 x e2)
-    x, y, z = np.diag(size)
-    sides = [(np.zeros(3), y, x, (1, 0)), (np.zeros(3), x, z, (0, 2)), (y, z, x, (2, 0)),
-             (np.zeros(3), z, y, (2, 1)), (x, y, z, (1, 2))]
-    for origin, e1, e2, (a, b) in sides:
-        n1, n2 = cells[a], cells[b]
-        grid = [[vertex(origin + e1 * i / n1 + e2 * j / n2) for j in range(n2 + 1)] for i in range(n1 + 1)]
-        for i in range(n1):
-            for j in range(n2):
-                tris += [(grid[i][j], grid[i + 1][j], grid[i + 1][j + 1]),
-                         (grid[i][j], grid[i + 1][j + 1], grid[i][j + 1])]
-    return np.array(points), np.array(tris, dtype=np.int32)
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -173,7 +147,7 @@ def test_a_piecewise_developable_mesh_is_said_so(seed):
     """An open box: every vertex inside its sides is flat, its curvature on
     the edges between them. The engine says it is developable piecewise
     rather than advising a larger tolerance."""
-    positions, triangles = open_box(np.random.default_rng(seed))
+    positions, triangles = meshes.open_box(np.random.default_rng(seed))
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
     assert result.stats["result"] == native.RESULT_UNCHANGED
@@ -187,26 +161,8 @@ def test_a_piecewise_developable_mesh_is_said_so(seed):
     assert native.STOP_REASONS[result.stats["stop_reason"]] in ("stalled", "already developable")
 
 
-def ring_torus(n_major, n_minor, r, stagger):
-    """A torus of rings of quads (major radius 1); `stagger` turns every other
-    ring by half a step. Aligned, each ring of quads is a cone frustum
-    (developable piecewise); staggered, no ring is."""
-    a = np.linspace(0, 2 * np.pi, n_major, endpoint=False)
-    b = np.linspace(0, 2 * np.pi, n_minor, endpoint=False)
-    A, B = np.meshgrid(a, b, indexing="ij")
-    A = A + stagger * (np.pi / n_major) * (np.arange(n_minor) % 2)
-    points = np.stack([(1 + r * np.cos(B)) * np.cos(A), (1 + r * np.cos(B)) * np.sin(A), r * np.sin(B)],
-                      -1).reshape(-1, 3)
-    idx = np.arange(n_major * n_minor).reshape(n_major, n_minor)
-    right, up = np.roll(idx, -1, axis=0), np.roll(idx, -1, axis=1)
-    corner = np.roll(right, -1, axis=1)
-    tris = np.vstack([np.stack([idx, right, corner], -1).reshape(-1, 3),
-                      np.stack([idx, corner, up], -1).reshape(-1, 3)])
-    return points, tris.astype(np.int32)
-
-
 def test_a_torus_of_cone_frusta_is_said_developable_piecewise():
-    positions, triangles = ring_torus(48, 16, 0.35, stagger=0.0)
+    positions, triangles = meshes.ring_torus(48, 16, 0.35, stagger=0.0)
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
     assert result.stats["unchanged_reason"] == native.UNCHANGED_DEVELOPABLE_PIECEWISE
@@ -217,7 +173,7 @@ def test_a_torus_of_cone_frusta_is_said_developable_piecewise():
 def test_piecewise_developable_is_not_said_of_a_torus_that_is_not(seed):
     """Every other ring turned: no ring of quads is a cone frustum."""
     rng = np.random.default_rng(seed)
-    positions, triangles = ring_torus(int(rng.integers(24, 65)), 2 * int(rng.integers(6, 13)),
+    positions, triangles = meshes.ring_torus(int(rng.integers(24, 65)), 2 * int(rng.integers(6, 13)),
                                       rng.uniform(0.2, 0.6), stagger=1.0)
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)

@@ -9,16 +9,20 @@ another in one Blender start-up, each in a fresh factory-startup file (the
 scene's settings back to their defaults), with a line "SCENARIO NAME" on
 stderr before each so that a test can read each one's messages apart; an
 exception in one is its RESULT ({"exception": traceback}) and the next one
-runs. Meshes are generated here with numpy (seeded), so nothing depends on
-the add-on's own helpers."""
+runs. Meshes are generated with numpy (seeded), here or by devkit/meshes.py,
+so nothing depends on the add-on's own helpers."""
 import importlib
 import json
+import pathlib
 import sys
 import traceback
 
 import addon_utils
 import bpy
 import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2]))  # the repository: devkit
+from devkit import meshes  # noqa: E402
 
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 
@@ -78,41 +82,6 @@ def noisy_sheet(nu=24, nv=16, noise=0.01, seed=3):
     idx = np.arange(nu * nv).reshape(nu, nv)
     quads = np.stack([idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]], axis=-1)
     return pts.reshape(-1, 3), quads.reshape(-1, 4)
-
-
-def torus(n_major=48, n_minor=16, R=1.0, r=0.35):
-    """A closed torus: its total curvature is 0 but cannot leave it (Gauss-Bonnet).
-    Every other ring is turned by half a step: a torus of aligned rings is a
-    stack of cone frusta, developable piecewise, which the engine says."""
-    a = np.linspace(0, 2 * np.pi, n_major, endpoint=False)
-    b = np.linspace(0, 2 * np.pi, n_minor, endpoint=False)
-    A, B = np.meshgrid(a, b, indexing="ij")
-    A = A + (np.pi / n_major) * (np.arange(n_minor) % 2)
-    pts = np.stack([(R + r * np.cos(B)) * np.cos(A), (R + r * np.cos(B)) * np.sin(A),
-                    r * np.sin(B)], axis=-1).reshape(-1, 3)
-    idx = np.arange(n_major * n_minor).reshape(n_major, n_minor)
-    nxt_a, nxt_b = np.roll(idx, -1, axis=0), np.roll(idx, -1, axis=1)
-    quads = np.stack([idx, nxt_a, np.roll(nxt_a, -1, axis=1), nxt_b], axis=-1).reshape(-1, 4)
-    return pts, quads
-
-
-def open_box(n=4, size=(2.0, 1.5, 1.0)):
-    """A box without its bottom, each side a grid of n x n quads, outward
-    normals: developable piecewise (its curvature on the edges and corners)."""
-    a, b, h = size
-    u, v = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1), indexing="ij")
-    u, v, zero, one = u.ravel(), v.ravel(), np.zeros(u.size), np.ones(u.size)
-    sides = [np.c_[u * a, v * b, one * h],     # top: du x dv = +z
-             np.c_[u * a, zero, v * h],        # front: -y
-             np.c_[v * a, one * b, u * h],     # back: +y
-             np.c_[zero, v * b, u * h],        # left: -x
-             np.c_[one * a, u * b, v * h]]     # right: +x
-    k = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
-    quad = np.stack([k[:-1, :-1], k[1:, :-1], k[1:, 1:], k[:-1, 1:]], -1).reshape(-1, 4)
-    points = np.vstack(sides)
-    faces = np.vstack([quad + s * (n + 1) ** 2 for s in range(len(sides))])
-    welded, index = np.unique(np.round(points, 9), axis=0, return_inverse=True)
-    return welded, index.ravel()[faces]
 
 
 def coords(me):
@@ -208,7 +177,10 @@ def s_presets():
 
 def s_worse():
     clear()
-    ob = make_object("torus", *torus())
+    # A closed torus: its total curvature is 0 but cannot leave it
+    # (Gauss-Bonnet). Every other ring turned: aligned, it would be a stack of
+    # cone frusta, developable piecewise, which the engine says.
+    ob = make_object("torus", *meshes.ring_torus_quads(48, 16, 0.35, stagger=1.0))
     res, err = run()
     kb = ob.data.shape_keys.key_blocks.get("Developable") if ob.data.shape_keys else None
     emit({"result": res, "error": err, "record": record(ob),
@@ -230,7 +202,7 @@ def s_developable():
     k = np.arange(x.size).reshape(x.shape)
     plane = (np.c_[x.ravel(), y.ravel(), np.zeros(x.size)],
              np.stack([k[:-1, :-1], k[1:, :-1], k[1:, 1:], k[:-1, 1:]], -1).reshape(-1, 4))
-    shapes = {"plane": plane, "box": open_box()}
+    shapes = {"plane": plane, "box": meshes.open_box(np.random.default_rng(1))}
     for name, (verts, faces) in shapes.items():
         clear()
         ob = make_object(name, verts, faces)

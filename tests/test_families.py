@@ -23,7 +23,10 @@ The Hausdorff ratio of the other families is above the issue's 1.5 on some
 seeds (random-curve tangent developables and curved folds: up to twice the
 noise on grids, and single seeds of cylinder patches and bands, cone bands
 and bent sheets on irregular triangulations, more on the irregular wavy
-ones);
+ones). On irregular triangulations that is what the triangles force: the
+noise-free twin run through the engine moves about as far, and every
+family's irregular runs are held to 1.5 times the larger of the noise and
+that move;
 each family's median is held to today's with room, so that a change that
 moves the shape more fails here.
 """
@@ -97,7 +100,9 @@ def test_curved_folds_refuse_irregular_triangulations():
 # -- the engine on them -------------------------------------------------------------------
 
 def run_family(family, triangulation):
-    """The figures of every seed: (dE %, flat share, Hausdorff ratio to the twin)."""
+    """The figures of every seed: (dE %, flat share, Hausdorff ratio to the twin,
+    where; on irregular triangulations also the twin's own ratio: the twin run
+    through the engine, its distance to itself after over the input's)."""
     figures = []
     for seed in SEEDS:
         m = families.random_case(family, seed, triangulations=[triangulation])
@@ -118,7 +123,11 @@ def run_family(family, triangulation):
             assert np.array_equal(r.positions, m.positions) and s["result_message"], where
         h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
         ratio = sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) / h0
-        figures.append((s["change_percent"], s["flat_share_after"], ratio, where))
+        figure = (s["change_percent"], s["flat_share_after"], ratio, where)
+        if triangulation == "irregular":
+            twin = native.run(m.clean, m.triangles).positions
+            figure += (sampled_hausdorff(twin, m.triangles, m.clean, m.triangles) / h0,)
+        figures.append(figure)
     return figures
 
 
@@ -153,20 +162,31 @@ def test_grids_keep_the_shape_within_the_noise(results, family):
 
 def test_curved_folds_become_developable(results):
     for t in ("grid", "alternating", "slivers"):
-        for change, flat, _, where in results[("curved_fold", t)]:
+        for change, flat, _, where, *_ in results[("curved_fold", t)]:
             assert flat >= 0.95 and change <= -90.0, where
 
 
 @pytest.mark.parametrize("family", [f for f in families.FAMILIES if f != "curved_fold"])
 def test_irregular_triangulations_become_developable(results, family):
-    for change, _, _, where in results[(family, "irregular")]:
+    for change, _, _, where, _ in results[(family, "irregular")]:
         assert change <= -95.0, where
 
 
 @pytest.mark.parametrize("family", SHAPE_KEPT_IRREGULAR)
 def test_irregular_triangulations_keep_the_shape_within_the_noise(results, family):
-    for _, _, ratio, where in results[(family, "irregular")]:
+    for _, _, ratio, where, _ in results[(family, "irregular")]:
         assert ratio <= 1.5, where
+
+
+@pytest.mark.parametrize("family", [f for f in families.FAMILIES if f != "curved_fold"])
+def test_irregular_triangulations_move_no_more_than_their_triangles_force(results, family):
+    """An irregular triangulation of a developable surface is not developable
+    itself (its twin keeps 1-100 % of the noisy input's mean |defect|): the
+    twin too has to move to become developable, as far as 4.8 times the noise
+    on seed 102 of tangent_random. Every family's run ends within 1.5 times the
+    larger of the noise and the twin's own move (docs/families.md)."""
+    for _, _, ratio, where, twin in results[(family, "irregular")]:
+        assert ratio <= 1.5 * max(1.0, twin), (where, ratio, twin)
 
 
 @pytest.mark.parametrize("family", families.FAMILIES)

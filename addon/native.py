@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 7  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 8  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -159,6 +159,8 @@ class dev_pattern_params(ctypes.Structure):
         ("unit_name", ctypes.c_char * 8),
         ("svg_path", ctypes.c_char_p),
         ("face_groups", ctypes.POINTER(ctypes.c_int32)),
+        # ABI 8
+        ("seam_allowance_mm", ctypes.c_double),
     ]
 
 
@@ -178,6 +180,8 @@ class dev_pattern_stats(ctypes.Structure):
         ("time_unfold_ms", ctypes.c_double),
         ("time_layout_ms", ctypes.c_double),
         ("time_total_ms", ctypes.c_double),
+        # ABI 8
+        ("cut_lines_from_hull", ctypes.c_int64),
     ]
 
 
@@ -215,7 +219,8 @@ class dev_pattern_seam(ctypes.Structure):
 
 # Pattern parameters settable through unfold(params=...), in struct order.
 PATTERN_PARAM_NAMES = ("sheet_width_mm", "sheet_height_mm", "margin_mm", "spacing_mm", "scale",
-                       "unit_mm", "seam_tolerance", "arap_iterations", "layout", "unit_name")
+                       "unit_mm", "seam_tolerance", "arap_iterations", "layout", "unit_name",
+                       "seam_allowance_mm")
 
 # Length of one model unit in mm, for the unit names the tool and the add-on offer.
 UNIT_MM = {"m": 1000.0, "cm": 10.0, "mm": 1.0, "in": 25.4}

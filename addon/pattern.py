@@ -58,6 +58,10 @@ class DevelopablePatternSettings(PropertyGroup):
                                   description="Largest stretch of a piece's outline edge before the piece "
                                               "is split, so that both sides of a seam match within twice "
                                               "this; 0 splits only pieces that would overlap")
+    seam_allowance: FloatProperty(name="Seam Allowance", default=0.0, min=0.0, max=100.0,
+                                  description="Cut every piece this far outside its outline on the sheet, "
+                                              "mm, for sewing or gluing; the outline is drawn dashed as "
+                                              "the seam line. 0 cuts on the outline")
 
 
 class DevelopablePatternRecord(PropertyGroup):
@@ -93,7 +97,8 @@ def pattern_params(settings, scene):
     unit_mm, unit_name = unit_of(settings, scene)
     return {"sheet_width_mm": width, "sheet_height_mm": height, "margin_mm": settings.margin,
             "scale": 0.0 if settings.auto_scale else settings.scale, "unit_mm": unit_mm,
-            "unit_name": unit_name, "seam_tolerance": settings.seam_tolerance / 100.0}
+            "unit_name": unit_name, "seam_tolerance": settings.seam_tolerance / 100.0,
+            "seam_allowance_mm": settings.seam_allowance}
 
 
 def source_positions(obj):
@@ -247,6 +252,9 @@ class MESH_OT_unfold_pattern(Operator):
                                                  if len(pattern.files) > 1 else "")) if pattern.files else ""
         self.report({'INFO'}, "%d pieces on %d sheets from the %s, worst strain %.3g %%%s"
                     % (st["pieces"], st["sheets"], source, 100.0 * st["max_strain"], where))
+        if st["cut_lines_from_hull"] > 0:
+            self.report({'WARNING'}, "The cut lines of %d pieces follow their convex hull: their seam "
+                        "allowance is wider than asked in their hollows" % st["cut_lines_from_hull"])
         return {'FINISHED'}
 
 
@@ -281,6 +289,7 @@ class VIEW3D_PT_developable_pattern(Panel):
         sub.enabled = not settings.auto_scale
         sub.prop(settings, "scale")
         col.prop(settings, "seam_tolerance")
+        col.prop(settings, "seam_allowance")
         col = layout.column(align=True)
         col.prop(settings, "export_svg")
         sub = col.row()

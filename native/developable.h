@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 7
+#define DEV_ABI_VERSION 8
 
 /* Status codes (values are stable). */
 enum {
@@ -284,6 +284,11 @@ typedef struct dev_pattern_params {
   const int32_t* face_groups; /* NULL, or n_triangles int32: triangles with the same value (e.g. the
                                polygon they were cut from) are never cut apart nor split apart,
                                unless that group alone cannot lie flat. Default NULL. */
+  /* ABI 8: */
+  double seam_allowance_mm; /* >= 0, on the sheet: the cut line runs this far outside every piece's
+                               outline (round corners; a slot narrower than twice it is bridged),
+                               and the outline is drawn as a dashed seam line. 0: the outline is
+                               the cut line. Default 0. */
 } dev_pattern_params;
 
 typedef struct dev_pattern_stats {
@@ -301,6 +306,10 @@ typedef struct dev_pattern_stats {
   double time_unfold_ms;
   double time_layout_ms;      /* layout and SVG */
   double time_total_ms;
+  /* ABI 8: */
+  int64_t cut_lines_from_hull; /* with a seam allowance: pieces whose cut line follows the offset of
+                                  their convex hull (the exact offset did not close, on a
+                                  near-degenerate outline); wider than asked in the hull's pockets */
 } dev_pattern_stats;
 
 typedef struct dev_pattern_piece {

@@ -1,5 +1,7 @@
 #include "pattern_layout.h"
 
+#include "seam_allowance.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -11,6 +13,10 @@ namespace developable {
 namespace {
 
 using Vec2 = Eigen::Vector2d;
+
+// mm: how far the chords that draw a cut line's round corners may stray from
+// the circle, a cutting plotter's step.
+constexpr double kCutLineTolerance = 0.01;
 
 double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -82,6 +88,9 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
   if (!std::isfinite(options.margin) || options.margin < 0.0 || !std::isfinite(options.spacing) ||
       options.spacing < 0.0 || !std::isfinite(options.footer) || options.footer < 0.0)
     throw EngineError(Status::invalid_argument, "margin, spacing and footer must not be negative");
+  if (!std::isfinite(options.seam_allowance) || options.seam_allowance < 0.0)
+    throw EngineError(Status::invalid_argument, "the seam allowance must not be negative (mm)");
+  const double allowance = options.seam_allowance;
   const double usable_w = options.sheet_width - 2.0 * options.margin;
   const double usable_h = options.sheet_height - 2.0 * options.margin - options.footer;
   if (usable_w <= 0.0 || usable_h <= 0.0)
@@ -108,7 +117,8 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
   // Standing (turned a quarter more) when only that fits: needs_stand[p].
   const auto fits = [&](double mm_per_unit, std::vector<char>* stand) {
     for (size_t p = 0; p < n_pieces; ++p) {
-      const double w = box[p].sizes().x() * mm_per_unit, h = box[p].sizes().y() * mm_per_unit;
+      const double w = box[p].sizes().x() * mm_per_unit + 2.0 * allowance;
+      const double h = box[p].sizes().y() * mm_per_unit + 2.0 * allowance;
       const bool lying = w <= usable_w && h <= usable_h;
       const bool standing = h <= usable_w && w <= usable_h;
       if (!lying && !standing) return static_cast<int>(p);
@@ -133,9 +143,11 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
   std::vector<char> stand(n_pieces, 0);
   const int too_big = fits(mm_per_unit, &stand);
   if (too_big >= 0) {
-    const Eigen::Vector2d size = box[too_big].sizes() * mm_per_unit;
+    const Eigen::Vector2d size = box[too_big].sizes() * mm_per_unit + Vec2::Constant(2.0 * allowance);
     double fitting = 0.0;  // the largest 1-2-5 scale that would fit this piece
-    const double ratio = std::min(std::max(usable_w, usable_h) / size.x(), std::min(usable_w, usable_h) / size.y());
+    // (the allowance keeps its mm at any scale)
+    const double ratio = std::min((std::max(usable_w, usable_h) - 2.0 * allowance) / (size.x() - 2.0 * allowance),
+                                  (std::min(usable_w, usable_h) - 2.0 * allowance) / (size.y() - 2.0 * allowance));
     for (double decade = 1.0; decade < 1e10 && fitting == 0.0; decade *= 10.0)
       for (double step : {1.0, 2.0, 5.0})
         if (1.0 / (decade * step) <= ratio) {
@@ -162,7 +174,7 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
   std::vector<size_t> order(n_pieces);
   for (size_t p = 0; p < n_pieces; ++p) order[p] = p;
   const auto placed_size = [&](size_t p) {
-    const Vec2 s = box[p].sizes() * mm_per_unit;
+    const Vec2 s = box[p].sizes() * mm_per_unit + Vec2::Constant(2.0 * allowance);
     return stand[p] ? Vec2(s.y(), s.x()) : s;
   };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return placed_size(a).y() > placed_size(b).y(); });
@@ -213,9 +225,18 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
     for (int f : faces_of[p])
       for (int k = 0; k < 3; ++k) {
         const Vec2 q = r * unfolded.corners.row(3 * f + k).transpose();
-        layout.corners.row(3 * f + k) << origin[p].x() + (q.x() - turned.min().x()) * mm_per_unit,
-            origin[p].y() + (turned.max().y() - q.y()) * mm_per_unit;
+        layout.corners.row(3 * f + k) << origin[p].x() + allowance + (q.x() - turned.min().x()) * mm_per_unit,
+            origin[p].y() + allowance + (turned.max().y() - q.y()) * mm_per_unit;
       }
+    // The cut line: the outline offset by the allowance, drawn to within
+    // kCutLineTolerance.
+    if (allowance > 0.0) {
+      std::vector<Vec2> outline;
+      for (Eigen::Index row : unfolded.pieces[p].outline.front()) outline.push_back(layout.corners.row(row).transpose());
+      OffsetOutline cut = offset_outline(outline, allowance, kCutLineTolerance);
+      layout.pieces[p].cut_line = std::move(cut.points);
+      layout.pieces[p].cut_line_from_hull = cut.from_hull;
+    }
     // The label: at the face centre farthest from the outline (sampled: at
     // most 400 faces and 400 outline corners), so that it sits well inside
     // even a ring or a C-shaped piece; its size fits that room.
@@ -277,7 +298,7 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
         mark.seam = static_cast<int>(s);
         mark.side = side;
         const double size = std::clamp(0.4 * length, 1.2, 3.0);
-        mark.notch_from = middle;
+        mark.notch_from = middle - inward * allowance;  // across the allowance to the cut line
         mark.notch_to = middle + inward * 0.6 * size;
         mark.label.text = layout.seam_labels.back();
         mark.label.sheet = layout.pieces[side == 0 ? seam.piece_a : seam.piece_b].sheet;

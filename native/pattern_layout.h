@@ -23,6 +23,10 @@ struct LayoutOptions {
   double scale = 1.0;
   double unit_mm = 1000.0;      // one model unit in mm: 1000 for metres
   std::string unit_name = "m";  // the model unit's name, for the scale bar ("in" gives inch lengths)
+  // mm of seam allowance around every piece (for sewing or gluing): the cut
+  // line is the outline offset outward by it (seam_allowance.h) and the
+  // outline becomes the seam line; 0: the outline is the cut line.
+  double seam_allowance = 0.0;
 };
 
 // A label at a point of a sheet, text centred there, turned by `angle`.
@@ -36,13 +40,19 @@ struct SheetLabel {
 
 struct PlacedPiece {
   int sheet = 0;
-  Eigen::Vector2d size = Eigen::Vector2d::Zero();  // its upright bounding box on the sheet, mm
+  Eigen::Vector2d size = Eigen::Vector2d::Zero();  // its upright bounding box on the sheet, mm,
+                                                   // seam allowance included
+  // With a seam allowance: the cut line, mm on the sheet, the outline's
+  // offset (from_hull: that of its convex hull, see offset_outline); else empty.
+  std::vector<Eigen::Vector2d> cut_line;
+  bool cut_line_from_hull = false;
   SheetLabel label;                                // "A", "B", ... at the (sampled) face centre
                                                    // farthest from the outline
 };
 
-// One side of a seam: a notch across the cut line at the seam's middle and
-// the seam's label beside it, inside the piece.
+// One side of a seam: a notch across the cut line at the seam's middle (with
+// a seam allowance, from the cut line across the allowance) and the seam's
+// label beside it, inside the piece.
 struct MatchMark {
   int seam = 0;
   int side = 0;  // 0: piece_a, 1: piece_b of the seam
@@ -63,9 +73,10 @@ struct Layout {
 // Each piece is turned to its smallest bounding rectangle (lying, or standing
 // when only that fits), mirrored never (the sheet shows the side the face
 // normals point to), then placed by first-fit decreasing height on shelves,
-// so that the bounding boxes, hence the pieces, are at least `spacing` apart
-// and inside the margins. Throws EngineError(invalid_argument) for a
-// non-positive or non-finite size, a margin that leaves no room, or a piece
+// so that the bounding boxes, hence the pieces (their cut lines with a seam
+// allowance), are at least `spacing` apart and inside the margins. Throws
+// EngineError(invalid_argument) for a non-positive or non-finite size, a
+// negative or non-finite seam allowance, a margin that leaves no room, or a piece
 // that does not fit the printable area at the given scale (the message names
 // the piece, its size and the scale that would fit).
 Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,

@@ -58,17 +58,38 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
       << "<title>Developable pattern, sheet " << sheet + 1 << " of " << layout.sheets << "</title>\n"
       << "<rect id=\"page\" x=\"0\" y=\"0\" width=\"" << mm(o.sheet_width) << "\" height=\""
       << mm(o.sheet_height) << "\" fill=\"#ffffff\"/>\n";
-  out << "<g id=\"cut-lines\" fill=\"#dbe8f6\" stroke=\"#000000\" stroke-width=\"0.2\" "
-         "stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
+  // The outlines: the cut lines, or with a seam allowance the seam lines
+  // (dashed) inside the cut lines (the allowance paler).
+  const auto outline_path = [&](size_t p) {
+    std::ostringstream d;
+    for (const auto& loop : unfolded.pieces[p].outline) {
+      for (size_t i = 0; i < loop.size(); ++i)
+        d << (i == 0 ? "M" : "L") << mm(layout.corners(loop[i], 0)) << " " << mm(layout.corners(loop[i], 1)) << " ";
+      d << "Z ";
+    }
+    return d.str();
+  };
+  const bool allowance = o.seam_allowance > 0.0;
+  out << "<g id=\"cut-lines\" fill=\"" << (allowance ? "#eef4fb" : "#dbe8f6")
+      << "\" stroke=\"#000000\" stroke-width=\"0.2\" stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
   for (size_t p = 0; p < unfolded.pieces.size(); ++p) {
     if (layout.pieces[p].sheet != sheet) continue;
     out << "<path id=\"piece-" << escape(layout.pieces[p].label.text) << "\" d=\"";
-    for (const auto& loop : unfolded.pieces[p].outline) {
-      for (size_t i = 0; i < loop.size(); ++i)
-        out << (i == 0 ? "M" : "L") << mm(layout.corners(loop[i], 0)) << " " << mm(layout.corners(loop[i], 1)) << " ";
-      out << "Z ";
+    if (allowance) {
+      const auto& cut = layout.pieces[p].cut_line;
+      for (size_t i = 0; i < cut.size(); ++i) out << (i == 0 ? "M" : "L") << mm(cut[i].x()) << " " << mm(cut[i].y()) << " ";
+      out << "Z";
+    } else {
+      out << outline_path(p);
     }
     out << "\"/>\n";
+  }
+  if (allowance) {
+    out << "</g>\n<g id=\"seam-lines\" fill=\"#dbe8f6\" stroke=\"#000000\" stroke-width=\"0.2\" "
+           "stroke-dasharray=\"1.5 1\" stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
+    for (size_t p = 0; p < unfolded.pieces.size(); ++p)
+      if (layout.pieces[p].sheet == sheet)
+        out << "<path id=\"seam-" << escape(layout.pieces[p].label.text) << "\" d=\"" << outline_path(p) << "\"/>\n";
   }
   out << "</g>\n<g id=\"match-marks\" stroke=\"#c0392b\" stroke-width=\"0.25\">\n";
   for (const MatchMark& mark : layout.marks)

@@ -15,7 +15,8 @@ Every setting of the add-on is an option (--preset OBJECT --move-limit 2
 (writes PREFIX_before.png and PREFIX_after.png: Workbench, defect colours),
 --pattern OUT.svg (then Unfold Pattern: the flat pieces as SVG sheets, the UV
 map "Developable Pattern", seams and strain; --sheet a4|a3|letter|WxH,
---pattern-scale X|auto, --unit scene|m|cm|mm|in, --seam-tolerance PERCENT).
+--pattern-scale X|auto, --unit scene|m|cm|mm|in, --seam-tolerance PERCENT,
+--seam-allowance MM).
 
 The add-on is taken from, in order: --addon-module NAME; an installed add-on or
 extension whose module ends with "developable_mesh"; the repository's addon/
@@ -230,6 +231,8 @@ def build_parser(addon):
                    help="what one Blender unit is (default: the scene's unit scale)")
     p.add_argument("--seam-tolerance", type=float, default=None, metavar="PERCENT",
                    help="largest stretch of a piece's outline edge before it is split")
+    p.add_argument("--seam-allowance", type=float, default=None, metavar="MM",
+                   help="cut every piece this far outside its outline on the sheet (sewing, gluing)")
     defs = props.all_property_definitions()
     for name, prop in defs.items():
         kw = prop.keywords if hasattr(prop, "keywords") else prop[1]
@@ -272,6 +275,8 @@ def unfold_pattern(ob, args):
     settings.unit = "SCENE" if args.unit == "scene" else args.unit
     if args.seam_tolerance is not None:
         settings.seam_tolerance = args.seam_tolerance
+    if args.seam_allowance is not None:
+        settings.seam_allowance = args.seam_allowance
     settings.export_svg = True
     bpy.context.view_layer.objects.active = ob
     try:

@@ -96,5 +96,12 @@ def test_batch_script_writes_the_pattern(blender_env, tmp_path):
     assert p["pieces"] >= 1 and p["sheets"] >= 1 and 0 < p["scale"] <= 1
     assert all(pathlib.Path(f).is_file() for f in p["files"]) and len(p["files"]) == p["sheets"]
     assert 'width="297mm"' in pathlib.Path(p["files"][0]).read_text()
+    assert 'id="seam-lines"' not in pathlib.Path(p["files"][0]).read_text()
+    # The panel's Seam Allowance: the cut lines go around dashed seam lines.
+    proc, r = _batch(blender_env, "demo:cone_band", out, "--pattern", svg, "--pattern-scale", "auto",
+                     "--sheet", "a3", "--seam-allowance", "5")
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    text = pathlib.Path(r["pattern"]["files"][0]).read_text()
+    assert 'id="seam-lines"' in text and "stroke-dasharray" in text
     proc, r = _batch(blender_env, "demo:cone_band", out, "--pattern", svg, "--sheet", "60x60")
     assert proc.returncode == 1 and "does not fit" in r["pattern"]["error"]

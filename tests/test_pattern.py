@@ -144,9 +144,14 @@ def seam_labels_in_svgs(files):
 
 
 @pytest.fixture(scope="module")
-def woman_pattern(native, meshes_dir, tmp_path_factory):
+def woman_result(native, meshes_dir):
     pos, tri = read_obj(meshes_dir / "human_woman.obj")
-    result = native.run(pos, tri)  # the engine with its defaults
+    return native.run(pos, tri), tri  # the engine with its defaults
+
+
+@pytest.fixture(scope="module")
+def woman_pattern(native, woman_result, tmp_path_factory):
+    result, tri = woman_result
     out = tmp_path_factory.mktemp("woman") / "woman.svg"
     pattern = native.unfold(result.positions, tri, result.patch_ids, params={"scale": 0},
                             svg_path=str(out))
@@ -271,6 +276,86 @@ def test_scale_is_true_on_the_rasterised_sheet(native, tmp_path):
     assert abs(xs.max() - xs.min() + 1 - 500) <= 4 and abs(ys.max() - ys.min() + 1 - 250) <= 4
 
 
+SVG = "{http://www.w3.org/2000/svg}"
+
+
+def svg_paths(path, group):
+    """piece label -> (k, 2) corners of the path of that piece in the SVG group."""
+    out = {}
+    for g in ET.parse(path).getroot().iter(SVG + "g"):
+        if g.get("id") != group:
+            continue
+        for node in g.iter(SVG + "path"):
+            numbers = [float(x) for x in node.get("d").replace("M", " ").replace("L", " ").replace("Z", " ").split()]
+            out[node.get("id").split("-", 1)[1]] = np.array(numbers).reshape(-1, 2)
+    return out
+
+
+def inside_polygon(points, polygon):
+    """Even-odd test of each point against the closed polygon."""
+    x, y = points[:, 0][:, None], points[:, 1][:, None]
+    ax, ay = polygon[:, 0][None], polygon[:, 1][None]
+    bx, by = np.roll(polygon[:, 0], -1)[None], np.roll(polygon[:, 1], -1)[None]
+    crosses = ((ay > y) != (by > y)) & (x < (bx - ax) * (y - ay) / np.where(by != ay, by - ay, 1) + ax)
+    return crosses.sum(axis=1) % 2 == 1
+
+
+def distance_to_polyline(points, polygon):
+    a, b = polygon[None], np.roll(polygon, -1, axis=0)[None]
+    e = b - a
+    t = np.clip(((points[:, None] - a) * e).sum(2) / (e * e).sum(2), 0, 1)
+    return np.linalg.norm(a + t[..., None] * e - points[:, None], axis=2).min(axis=1)
+
+
+def test_seam_allowance_surrounds_every_piece(native, woman_result, woman_pattern, tmp_path):
+    # human_woman's ~950 pieces, many with hollows and slots: every cut line
+    # holds its piece's seam line at least the allowance away, and the cut
+    # lines keep the layout's spacing.
+    (engine, tri), (_, _, pattern) = woman_result, woman_pattern
+    allowance, spacing = 3.0, 4.0
+    out = tmp_path / "woman.svg"
+    result = native.unfold(engine.positions, tri, engine.patch_ids,
+                           params={"scale": 0, "seam_allowance_mm": allowance}, svg_path=str(out))
+    assert result.stats["cut_lines_from_hull"] == 0
+    assert result.stats["pieces"] == pattern.stats["pieces"]
+    boxes = []
+    for path in result.files:
+        cut, seam = svg_paths(path, "cut-lines"), svg_paths(path, "seam-lines")
+        assert cut.keys() == seam.keys() and cut
+        for label, line in cut.items():
+            outline = seam[label]
+            assert inside_polygon(outline, line).all(), label
+            assert distance_to_polyline(outline, line).min() >= allowance - 0.011, label
+            boxes.append((path, line.min(0), line.max(0)))
+    assert len(boxes) == result.stats["pieces"]
+    for i in range(len(boxes)):
+        for j in range(i + 1, len(boxes)):
+            if boxes[i][0] == boxes[j][0]:
+                gap = np.maximum(boxes[j][1] - boxes[i][2], boxes[i][1] - boxes[j][2]).max()
+                assert gap >= spacing - 1e-6, (i, j)
+
+
+@pytest.mark.skipif(RSVG is None, reason="rsvg-convert (librsvg2-bin) is not installed")
+def test_seam_allowance_on_the_rasterised_sheet(native, tmp_path):
+    # The 10 cm x 5 cm plane with a 10 mm allowance: cut 120 x 70 mm with
+    # round corners around the 100 x 50 mm piece, at 10 px per mm.
+    pos, tri = meshes.plane(rows=6, cols=11, size=0.1)
+    pos[:, 1] *= 0.05 / pos[:, 1].max()
+    svg = tmp_path / "plane.svg"
+    native.unfold(pos, tri, params={"scale": 1.0, "seam_allowance_mm": 10.0}, svg_path=str(svg))
+    rgb = rasterise(svg, tmp_path / "plane.png", 254)[..., :3].astype(int)
+    piece = np.abs(rgb - [0xdb, 0xe8, 0xf6]).sum(axis=2) < 12
+    band = np.abs(rgb - [0xee, 0xf4, 0xfb]).sum(axis=2) < 12
+    ys, xs = np.nonzero(piece)
+    assert abs(xs.max() - xs.min() + 1 - 1000) <= 4 and abs(ys.max() - ys.min() + 1 - 500) <= 4
+    ys, xs = np.nonzero(band)
+    assert abs(xs.max() - xs.min() + 1 - 1200) <= 4 and abs(ys.max() - ys.min() + 1 - 700) <= 4
+    # Round corners: the corner of the cut line's box is outside, 3 mm in along the diagonal inside.
+    x0, y0 = xs.min(), ys.min()
+    assert not band[y0 + 5, x0 + 5] and band[y0 + 30, x0 + 30]
+    assert len(svg_paths(svg, "seam-lines")) == 1
+
+
 @pytest.mark.skipif(RSVG is None, reason="rsvg-convert (librsvg2-bin) is not installed")
 def test_rasterised_sheets_are_not_blank(woman_pattern, tmp_path):
     _, _, pattern = woman_pattern
@@ -294,7 +379,8 @@ def test_bad_input_gets_a_status(native, tmp_path):
     with pytest.raises(native.EngineError) as err:  # a 2 m x 1.6 m plane at 1:1 on A4
         native.unfold(pos, tri)
     assert err.value.status_name == "INVALID_ARGUMENT" and "1:10" in err.value.message
-    for bad in ({"sheet_width_mm": 0}, {"scale": -1}, {"margin_mm": 200}, {"seam_tolerance": -1}):
+    for bad in ({"sheet_width_mm": 0}, {"scale": -1}, {"margin_mm": 200}, {"seam_tolerance": -1},
+                {"seam_allowance_mm": -1}, {"seam_allowance_mm": float("nan")}):
         with pytest.raises(native.EngineError) as err:
             native.unfold(pos, tri, params=dict(bad, scale=bad.get("scale", 0)))
         assert err.value.status_name == "INVALID_ARGUMENT"

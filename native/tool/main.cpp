@@ -67,6 +67,9 @@ const char* const usage_text =
     "  --unit m|cm|mm|in    the model's unit (default m)\n"
     "  --seam-tolerance X   largest relative length change of a piece's outline\n"
     "                       edge before the piece is split (default 0.0025; 0 = none)\n"
+    "  --seam-allowance MM  cut every piece this far outside its outline, on paper,\n"
+    "                       for sewing or gluing; the outline is drawn dashed as the\n"
+    "                       seam line (default 0: the outline is the cut line)\n"
     "  --quiet              no progress on stderr\n"
     "  --help               this text\n"
     "\n"
@@ -172,7 +175,8 @@ std::string pattern_json(const dev_pattern* pattern, const dev_pattern_params& p
        << ", \"sheet_height_mm\": " << json_number(params.sheet_height_mm)
        << ", \"margin_mm\": " << json_number(params.margin_mm) << ", \"unit\": \"" << params.unit_name
        << "\", \"unit_mm\": " << json_number(params.unit_mm)
-       << ", \"seam_tolerance\": " << json_number(params.seam_tolerance) << "},\n";
+       << ", \"seam_tolerance\": " << json_number(params.seam_tolerance)
+       << ", \"seam_allowance_mm\": " << json_number(params.seam_allowance_mm) << "},\n";
   json << "    \"stats\": {\"pieces\": " << st.pieces << ", \"sheets\": " << st.sheets
        << ", \"seams\": " << st.seams << ", \"cut_edges\": " << st.cut_edges
        << ", \"splits\": " << st.splits << ", \"max_strain\": " << json_number(st.max_strain)
@@ -181,7 +185,8 @@ std::string pattern_json(const dev_pattern* pattern, const dev_pattern_params& p
        << ", \"scale\": " << json_number(st.scale)
        << ", \"time_unfold_ms\": " << json_number(st.time_unfold_ms)
        << ", \"time_layout_ms\": " << json_number(st.time_layout_ms)
-       << ", \"time_total_ms\": " << json_number(st.time_total_ms) << "},\n    \"files\": [";
+       << ", \"time_total_ms\": " << json_number(st.time_total_ms)
+       << ", \"cut_lines_from_hull\": " << st.cut_lines_from_hull << "},\n    \"files\": [";
   char path[4096];
   for (int64_t i = 0; i < st.svg_files; ++i) {
     dev_pattern_svg_file(pattern, i, path, sizeof path);
@@ -375,6 +380,8 @@ int main(int argc, char** argv) {
       pattern_params.unit_mm = mm[index];
     } else if (arg == "--seam-tolerance") {
       pattern_params.seam_tolerance = parse_number(arg, value());
+    } else if (arg == "--seam-allowance") {
+      pattern_params.seam_allowance_mm = parse_number(arg, value());
     } else if (arg == "--quiet" || arg == "-q") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -465,5 +472,10 @@ int main(int argc, char** argv) {
                              stats.unchanged_reason == DEV_UNCHANGED_ALREADY_FLAT;
   if (stats.result == DEV_RESULT_UNCHANGED || stats.result_message[0] != '\0')
     std::fprintf(stderr, "%s: %s\n", nothing_to_do ? "note" : "WARNING", stats.result_message);
+  if (pattern_stats.cut_lines_from_hull > 0)
+    std::fprintf(stderr,
+                 "note: the cut lines of %lld pieces follow the offset of their convex hull (the seam "
+                 "allowance is wider than asked in their hollows)\n",
+                 static_cast<long long>(pattern_stats.cut_lines_from_hull));
   return 0;
 }

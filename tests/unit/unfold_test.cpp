@@ -94,5 +94,52 @@ TEST(PatternSvg, SizeIsInMillimetres) {
   EXPECT_NE(svg.find("scale 1:10"), std::string::npos);
 }
 
+TEST(PatternLayout, SeamAllowanceWidensEveryPieceAndItsCutLine) {
+  const auto m = test::cone();
+  const UnfoldResult r = unfold(m.positions, m.triangles, {});
+  LayoutOptions o;
+  o.scale = 0.025;
+  const Layout plain = layout_pattern(r, m.triangles, o);
+  o.seam_allowance = 7.0;
+  const Layout layout = layout_pattern(r, m.triangles, o);
+  ASSERT_EQ(layout.pieces.size(), plain.pieces.size());
+  for (size_t p = 0; p < layout.pieces.size(); ++p) {
+    const PlacedPiece& piece = layout.pieces[p];
+    EXPECT_TRUE(plain.pieces[p].cut_line.empty());
+    EXPECT_NEAR(piece.size.x(), plain.pieces[p].size.x() + 14.0, 1e-9);
+    EXPECT_NEAR(piece.size.y(), plain.pieces[p].size.y() + 14.0, 1e-9);
+    ASSERT_GE(piece.cut_line.size(), 3u);
+    EXPECT_FALSE(piece.cut_line_from_hull);
+    // The cut line lies in the margins' room, 7 mm outside every outline corner.
+    Eigen::AlignedBox2d cut;
+    for (const Eigen::Vector2d& q : piece.cut_line) cut.extend(q);
+    EXPECT_GE(cut.min().minCoeff(), o.margin - 1e-9);
+    EXPECT_LE(cut.max().x(), o.sheet_width - o.margin + 1e-9);
+    for (Eigen::Index row : r.pieces[p].outline.front()) {
+      const Eigen::Vector2d corner = layout.corners.row(row).transpose();
+      double nearest = INFINITY;
+      for (size_t i = 0; i < piece.cut_line.size(); ++i) {
+        const Eigen::Vector2d a = piece.cut_line[i], e = piece.cut_line[(i + 1) % piece.cut_line.size()] - a;
+        const double t = std::clamp(e.dot(corner - a) / e.squaredNorm(), 0.0, 1.0);
+        nearest = std::min(nearest, (a + t * e - corner).norm());
+      }
+      EXPECT_GE(nearest, 7.0 - 0.011);
+    }
+  }
+  // The notches reach across the allowance to the cut line.
+  ASSERT_EQ(layout.marks.size(), plain.marks.size());
+  for (size_t k = 0; k < layout.marks.size(); ++k)
+    EXPECT_NEAR((layout.marks[k].notch_to - layout.marks[k].notch_from).norm(),
+                (plain.marks[k].notch_to - plain.marks[k].notch_from).norm() + 7.0, 1e-9);
+  const std::string svg = pattern_svg(layout, r, 0);
+  EXPECT_NE(svg.find("id=\"seam-lines\""), std::string::npos);
+  EXPECT_NE(svg.find("id=\"seam-A\""), std::string::npos);
+  EXPECT_EQ(pattern_svg(plain, r, 0).find("seam-lines"), std::string::npos);
+  o.seam_allowance = -1.0;
+  EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
+  o.seam_allowance = NAN;
+  EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
+}
+
 }  // namespace
 }  // namespace developable

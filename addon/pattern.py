@@ -22,7 +22,7 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 from bpy.types import Operator, Panel, PropertyGroup
 
-from . import mesh_io, native, writeback
+from . import checks, mesh_io, native, writeback
 
 UV_MAP = "Developable Pattern"
 STRAIN = "pattern_strain"
@@ -250,11 +250,14 @@ class MESH_OT_unfold_pattern(Operator):
                 bpy.ops.object.mode_set(mode='EDIT')
         where = (" to %s" % pattern.files[0] + (" and %d more" % (len(pattern.files) - 1)
                                                  if len(pattern.files) > 1 else "")) if pattern.files else ""
-        self.report({'INFO'}, "%d pieces on %d sheets from the %s, worst strain %.3g %%%s"
-                    % (st["pieces"], st["sheets"], source, 100.0 * st["max_strain"], where))
+        pieces = checks.plural(st["pieces"], "piece", "pieces")
+        sheets = checks.plural(st["sheets"], "sheet", "sheets")
+        self.report({'INFO'}, "%s on %s from the %s, worst strain %.3g %%%s"
+                    % (pieces, sheets, source, 100.0 * st["max_strain"], where))
         if st["cut_lines_from_hull"] > 0:
-            self.report({'WARNING'}, "The cut lines of %d pieces follow their convex hull: their seam "
-                        "allowance is wider than asked in their hollows" % st["cut_lines_from_hull"])
+            self.report({'WARNING'}, "The cut lines of %s follow the convex hull: the seam allowance is "
+                        "wider than asked in the hollows"
+                        % checks.plural(st["cut_lines_from_hull"], "piece", "pieces"))
         return {'FINISHED'}
 
 

@@ -1,5 +1,6 @@
 #include "pattern_layout.h"
 
+#include "convex_hull.h"
 #include "seam_allowance.h"
 
 #include <Eigen/Geometry>
@@ -19,26 +20,6 @@ using Vec2 = Eigen::Vector2d;
 constexpr double kCutLineTolerance = 0.01;
 
 double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-// Andrew's monotone chain; counter-clockwise, no repeated end point.
-std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
-  std::sort(points.begin(), points.end(), [](const Vec2& a, const Vec2& b) {
-    return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
-  });
-  if (points.size() < 3) return points;
-  std::vector<Vec2> hull(2 * points.size());
-  size_t k = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && cross2(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  for (size_t i = points.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross2(hull[k - 1] - hull[k - 2], points[i - 1] - hull[k - 2]) <= 0) --k;
-    hull[k++] = points[i - 1];
-  }
-  hull.resize(k - 1);
-  return hull;
-}
 
 // The turn (radians) that brings the hull's smallest-area bounding rectangle
 // upright, tried along every hull edge (at most 720 of them).

@@ -1,5 +1,6 @@
 #include "seam_allowance.h"
 
+#include "convex_hull.h"
 #include "types.h"
 
 #include <Eigen/Geometry>
@@ -147,23 +148,6 @@ std::vector<Vec2> offset_convex(const std::vector<Vec2>& hull, double distance, 
   std::vector<Vec2> out;
   for (const Piece& piece : pieces) out.push_back(piece.from);
   return out;
-}
-
-std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
-  std::sort(points.begin(), points.end(),
-            [](const Vec2& a, const Vec2& b) { return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y(); });
-  std::vector<Vec2> hull(2 * points.size());
-  size_t k = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && cross2(hull[k - 1] - hull[k - 2], points[i] - hull[k - 2]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  for (size_t i = points.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross2(hull[k - 1] - hull[k - 2], points[i - 1] - hull[k - 2]) <= 0) --k;
-    hull[k++] = points[i - 1];
-  }
-  hull.resize(k - 1);
-  return hull;
 }
 
 }  // namespace

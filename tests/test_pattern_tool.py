@@ -50,15 +50,21 @@ def test_tool_pattern_options_are_checked(tool_path, tmp_path):
     assert proc.returncode == 2 and "1:10" in proc.stderr
 
 
-def test_tool_letter_sheet_in_inches(tool_path, tmp_path):
-    pos, tri = meshes.plane(rows=5, cols=6, size=4.0)  # 4 in x 3.2 in
+def pattern_of_a_plane_in_inches(tool_path, tmp_path, *options):
+    """(tool run, report's pattern) of a 4 in x 3.2 in plane with --unit in."""
+    pos, tri = meshes.plane(rows=5, cols=6, size=4.0)
     mesh = tmp_path / "plane.obj"
     write_obj(mesh, pos, tri)
     report = tmp_path / "r.json"
     proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
-                    "--sheet", "letter", "--unit", "in", "--report", report)
+                    "--unit", "in", "--report", report, *options)
     assert proc.returncode == 0, proc.stderr
-    piece = json.loads(report.read_text())["pattern"]["pieces"][0]
+    return proc, json.loads(report.read_text())["pattern"]
+
+
+def test_tool_letter_sheet_in_inches(tool_path, tmp_path):
+    _, pattern = pattern_of_a_plane_in_inches(tool_path, tmp_path, "--sheet", "letter")
+    piece = pattern["pieces"][0]
     # The engine leaves an already developable plane unchanged: 4 x 3.2 in = 101.6 x 81.28 mm.
     assert np.allclose(sorted([piece["width_mm"], piece["height_mm"]]), [81.28, 101.6], atol=1e-6)
     svg = (tmp_path / "p.svg").read_text()
@@ -68,15 +74,8 @@ def test_tool_letter_sheet_in_inches(tool_path, tmp_path):
 def test_tool_seam_allowance(tool_path, tmp_path):
     # The 4 in x 3.2 in plane with a 6 mm allowance: the piece's box on the
     # sheet grows by 12 mm both ways, the outline becomes the dashed seam line.
-    pos, tri = meshes.plane(rows=5, cols=6, size=4.0)
-    mesh = tmp_path / "plane.obj"
-    write_obj(mesh, pos, tri)
-    report = tmp_path / "r.json"
-    proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
-                    "--unit", "in", "--seam-allowance", "6", "--report", report)
-    assert proc.returncode == 0, proc.stderr
+    proc, data = pattern_of_a_plane_in_inches(tool_path, tmp_path, "--seam-allowance", "6")
     assert "convex hull" not in proc.stderr
-    data = json.loads(report.read_text())["pattern"]
     assert data["parameters"]["seam_allowance_mm"] == 6 and data["stats"]["cut_lines_from_hull"] == 0
     piece = data["pieces"][0]
     assert np.allclose(sorted([piece["width_mm"], piece["height_mm"]]), [93.28, 113.6], atol=1e-6)
@@ -84,6 +83,6 @@ def test_tool_seam_allowance(tool_path, tmp_path):
     groups = {g.get("id"): g for g in root.iter("{http://www.w3.org/2000/svg}g")}
     assert "seam-lines" in groups and groups["seam-lines"].get("stroke-dasharray")
     for bad in ("-1", "nan"):
-        proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
-                        "--seam-allowance", bad)
+        proc = run_tool(tool_path, tmp_path / "plane.obj", tmp_path / "o.obj", "--quiet", "--pattern",
+                        tmp_path / "p.svg", "--seam-allowance", bad)
         assert proc.returncode != 0 and "seam" in proc.stderr and "allowance" in proc.stderr, proc.stderr

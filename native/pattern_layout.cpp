@@ -76,6 +76,13 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
   const double usable_h = options.sheet_height - 2.0 * options.margin - options.footer;
   if (usable_w <= 0.0 || usable_h <= 0.0)
     throw EngineError(Status::invalid_argument, "the margins leave no room on the sheet");
+  if (2.0 * allowance >= std::min(usable_w, usable_h)) {
+    std::ostringstream message;
+    message.precision(4);
+    message << "a seam allowance of " << allowance << " mm leaves no room for a piece on the printable "
+            << usable_w << " x " << usable_h << " mm of the sheet";
+    throw EngineError(Status::invalid_argument, message.str());
+  }
 
   const size_t n_pieces = unfolded.pieces.size();
   // Each piece upright in model units: turn, then its bounding box.

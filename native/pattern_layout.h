@@ -76,7 +76,7 @@ struct Layout {
 // so that the bounding boxes, hence the pieces (their cut lines with a seam
 // allowance), are at least `spacing` apart and inside the margins. Throws
 // EngineError(invalid_argument) for a non-positive or non-finite size, a
-// negative or non-finite seam allowance, a margin that leaves no room, or a piece
+// negative, non-finite or too wide seam allowance, a margin that leaves no room, or a piece
 // that does not fit the printable area at the given scale (the message names
 // the piece, its size and the scale that would fit).
 Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,

@@ -139,6 +139,10 @@ TEST(PatternLayout, SeamAllowanceWidensEveryPieceAndItsCutLine) {
   EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
   o.seam_allowance = NAN;
   EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
+  o.seam_allowance = 0.5 * (o.sheet_width - 2.0 * o.margin);  // no room left for any piece
+  EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
+  o.seam_allowance = 1e300;
+  EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
 }
 
 }  // namespace

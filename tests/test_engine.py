@@ -215,6 +215,23 @@ def test_runs_are_deterministic(library):
     assert np.array_equal(a.positions, b.positions)
 
 
+@pytest.mark.parametrize("family,triangulation,seed", [
+    ("cylinder_patch", "grid", 5), ("tangent_helix", "alternating", 4), ("bent_sheet", "irregular", 3)])
+def test_the_result_does_not_depend_on_units_or_placement(library, family, triangulation, seed):
+    """A CAD part in millimetres, or far from the origin, gets the same shape
+    (every threshold is relative to the mesh: angles, edge lengths, its
+    diagonal): at x1000 and x0.001 to rounding, and 10^4 diagonals away to
+    what the coordinates' rounding there allows."""
+    m = families.random_case(family, seed, triangulations=[triangulation])
+    base = native.run(m.positions, m.triangles)
+    diagonal = bbox_diagonal(m.positions)
+    for scale, offset, allowed in ((1e3, 0.0, 1e-12), (1e-3, 0.0, 1e-12), (1.0, 1e4 * diagonal, 1e-6)):
+        moved = native.run(m.positions * scale + offset, m.triangles)
+        back = (moved.positions - offset) / scale
+        assert np.abs(back - base.positions).max() <= allowed * diagonal, (scale, offset)
+        assert moved.stats["flat_share_after"] == pytest.approx(base.stats["flat_share_after"], abs=0.01)
+
+
 def test_stats_match_the_mesh(library):
     positions, triangles = meshes.curved_cone()
     r = native.run(positions, triangles, params=dict(pin_boundary=1))

@@ -324,7 +324,7 @@ typedef struct dev_pattern_piece {
   double area_flat;
   double area_change;         /* area_flat / area_3d - 1 */
   double outline_length;      /* flat outline, model units */
-  double width_mm;            /* bounding box on the sheet; 0 without layout */
+  double width_mm;            /* bounding box on the sheet (seam allowance included); 0 without layout */
   double height_mm;
   char label[16];             /* "A", "B", ... (also without layout) */
 } dev_pattern_piece;

@@ -161,6 +161,7 @@ class dev_pattern_params(ctypes.Structure):
         ("face_groups", ctypes.POINTER(ctypes.c_int32)),
         # ABI 8
         ("seam_allowance_mm", ctypes.c_double),
+        ("glue_tabs_mm", ctypes.c_double),
     ]
 
 
@@ -182,6 +183,8 @@ class dev_pattern_stats(ctypes.Structure):
         ("time_total_ms", ctypes.c_double),
         # ABI 8
         ("cut_lines_from_hull", ctypes.c_int64),
+        ("glue_tabs", ctypes.c_int64),
+        ("glue_tabs_dropped", ctypes.c_int64),
     ]
 
 
@@ -220,7 +223,7 @@ class dev_pattern_seam(ctypes.Structure):
 # Pattern parameters settable through unfold(params=...), in struct order.
 PATTERN_PARAM_NAMES = ("sheet_width_mm", "sheet_height_mm", "margin_mm", "spacing_mm", "scale",
                        "unit_mm", "seam_tolerance", "arap_iterations", "layout", "unit_name",
-                       "seam_allowance_mm")
+                       "seam_allowance_mm", "glue_tabs_mm")
 
 # Length of one model unit in mm, for the unit names the tool and the add-on offer.
 UNIT_MM = {"m": 1000.0, "cm": 10.0, "mm": 1.0, "in": 25.4}

@@ -62,6 +62,10 @@ class DevelopablePatternSettings(PropertyGroup):
                                   description="Cut every piece this far outside its outline on the sheet, "
                                               "mm, for sewing or gluing; the outline is drawn dashed as "
                                               "the seam line. 0 cuts on the outline")
+    glue_tabs: FloatProperty(name="Glue Tabs", default=0.0, min=0.0, max=100.0,
+                             description="A glue tab this high on one side of every seam, mm on the sheet, "
+                                         "folded along the seam (papercraft); 0: none. Not with a seam "
+                                         "allowance")
 
 
 class DevelopablePatternRecord(PropertyGroup):
@@ -98,7 +102,7 @@ def pattern_params(settings, scene):
     return {"sheet_width_mm": width, "sheet_height_mm": height, "margin_mm": settings.margin,
             "scale": 0.0 if settings.auto_scale else settings.scale, "unit_mm": unit_mm,
             "unit_name": unit_name, "seam_tolerance": settings.seam_tolerance / 100.0,
-            "seam_allowance_mm": settings.seam_allowance}
+            "seam_allowance_mm": settings.seam_allowance, "glue_tabs_mm": settings.glue_tabs}
 
 
 def source_positions(obj):
@@ -254,6 +258,9 @@ class MESH_OT_unfold_pattern(Operator):
         sheets = checks.plural(st["sheets"], "sheet", "sheets")
         self.report({'INFO'}, "%s on %s from the %s, worst strain %.3g %%%s"
                     % (pieces, sheets, source, 100.0 * st["max_strain"], where))
+        if st["glue_tabs_dropped"] > 0:
+            self.report({'WARNING'}, "%s without a glue tab: none fitted, not even at half the height"
+                        % checks.plural(st["glue_tabs_dropped"], "seam side", "seam sides"))
         if st["cut_lines_from_hull"] > 0:
             self.report({'WARNING'}, "The cut lines of %s follow the convex hull: the seam allowance is "
                         "wider than asked in the hollows"
@@ -293,6 +300,7 @@ class VIEW3D_PT_developable_pattern(Panel):
         sub.prop(settings, "scale")
         col.prop(settings, "seam_tolerance")
         col.prop(settings, "seam_allowance")
+        col.prop(settings, "glue_tabs")
         col = layout.column(align=True)
         col.prop(settings, "export_svg")
         sub = col.row()

@@ -368,6 +368,7 @@ void dev_default_pattern_params(dev_pattern_params* params) {
   params->svg_path = nullptr;
   params->face_groups = nullptr;
   params->seam_allowance_mm = layout.seam_allowance;
+  params->glue_tabs_mm = layout.glue_tabs;
 }
 
 int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* triangles,
@@ -401,6 +402,7 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
     layout_options.unit_mm = p.unit_mm;
     layout_options.unit_name = p.unit_name;
     layout_options.seam_allowance = p.seam_allowance_mm;
+    layout_options.glue_tabs = p.glue_tabs_mm;
     const bool write_svg = p.svg_path != nullptr && p.svg_path[0] != '\0';
     require(p.layout != 0 || !write_svg, "svg_path needs layout");
 
@@ -422,8 +424,11 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
     st.seams = static_cast<int64_t>(u.seams.size());
     st.splits = u.split_count;
     st.svg_files = static_cast<int64_t>(owned->files.size());
-    if (owned->laid_out)
+    if (owned->laid_out) {
       for (const auto& piece : owned->layout.pieces) st.cut_lines_from_hull += piece.cut_line_from_hull ? 1 : 0;
+      st.glue_tabs = owned->layout.glue_tabs;
+      st.glue_tabs_dropped = owned->layout.glue_tabs_dropped;
+    }
     double strain_sum = 0.0;
     for (const auto& piece : u.pieces) {
       st.cut_edges += piece.cut_edges;

@@ -289,6 +289,10 @@ typedef struct dev_pattern_params {
                                outline (round corners; a slot narrower than twice it is bridged),
                                and the outline is drawn as a dashed seam line. 0: the outline is
                                the cut line. Default 0. */
+  double glue_tabs_mm;      /* >= 0, on the sheet: a glue tab this high on one side of every seam
+                               (45 degree ends, halved or left out where it would cross the piece
+                               or another tab), its fold line dashed. 0: none. Not with a seam
+                               allowance. Default 0. */
 } dev_pattern_params;
 
 typedef struct dev_pattern_stats {
@@ -310,6 +314,8 @@ typedef struct dev_pattern_stats {
   int64_t cut_lines_from_hull; /* with a seam allowance: pieces whose cut line follows the offset of
                                   their convex hull (the exact offset did not close, on a
                                   near-degenerate outline); wider than asked in the hull's pockets */
+  int64_t glue_tabs;          /* tabs placed */
+  int64_t glue_tabs_dropped;  /* seam sides without a tab: none fitted, not even at half height */
 } dev_pattern_stats;
 
 typedef struct dev_pattern_piece {

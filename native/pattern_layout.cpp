@@ -1,6 +1,7 @@
 #include "pattern_layout.h"
 
 #include "convex_hull.h"
+#include "glue_tabs.h"
 #include "seam_allowance.h"
 
 #include <Eigen/Geometry>
@@ -49,6 +50,59 @@ std::string format_scale(double scale) {
   return out.str();
 }
 
+// Glue tabs on side a of every seam: each seam's side-a edges are runs of
+// its piece's outline edges (side a is left of the directed edge, as the
+// piece is of its outline, so they run the outline's way), tabbed by
+// add_glue_tabs; the cut lines and fold lines go into `layout`.
+void add_tabs(const UnfoldResult& unfolded, const Triangles& triangles, double height, Layout& layout) {
+  // Outline edge (3 f + k: corner k of face f to the next) -> its index on its piece's loop.
+  std::vector<int> position(static_cast<size_t>(unfolded.corners.rows()), -1);
+  for (const UnfoldPiece& piece : unfolded.pieces)
+    for (size_t j = 0; j < piece.outline.front().size(); ++j)
+      position[static_cast<size_t>(piece.outline.front()[j])] = static_cast<int>(j);
+  std::vector<std::vector<TabRun>> runs(unfolded.pieces.size());
+  for (const UnfoldSeam& seam : unfolded.seams) {
+    const int n = static_cast<int>(unfolded.pieces[static_cast<size_t>(seam.piece_a)].outline.front().size());
+    std::vector<TabRun> seam_runs;
+    int previous = -2;
+    for (size_t i = 0; i < seam.edges.size(); ++i) {
+      const int f = seam.faces[i][0];
+      int edge = -1;
+      for (int k = 0; k < 3; ++k)
+        if (triangles(f, k) == seam.edges[i][0]) edge = position[static_cast<size_t>(3 * f + k)];
+      if (edge < 0) {  // not on the outline as expected: no tab there
+        previous = -2;
+        ++layout.glue_tabs_dropped;
+        continue;
+      }
+      if (previous >= 0 && edge == (previous + 1) % n)
+        ++seam_runs.back().count;  // the run goes on
+      else
+        seam_runs.push_back({edge, 1});
+      previous = edge;
+    }
+    // A seam around a closed ring starts anywhere on it: its last run may
+    // end where its first begins on the flat outline, one run there.
+    if (seam_runs.size() > 1 &&
+        (seam_runs.back().first + seam_runs.back().count) % n == seam_runs.front().first) {
+      seam_runs.back().count += seam_runs.front().count;
+      seam_runs.erase(seam_runs.begin());
+    }
+    auto& piece_runs = runs[static_cast<size_t>(seam.piece_a)];
+    piece_runs.insert(piece_runs.end(), seam_runs.begin(), seam_runs.end());
+  }
+  for (size_t p = 0; p < unfolded.pieces.size(); ++p) {
+    if (runs[p].empty()) continue;
+    std::vector<Vec2> outline;
+    for (Eigen::Index row : unfolded.pieces[p].outline.front()) outline.push_back(layout.corners.row(row).transpose());
+    TabbedOutline tabbed = add_glue_tabs(outline, runs[p], height);
+    layout.pieces[p].cut_line = std::move(tabbed.cut_line);
+    for (auto& fold : tabbed.folds) layout.fold_lines.push_back({layout.pieces[p].sheet, std::move(fold)});
+    layout.glue_tabs += tabbed.tabs;
+    layout.glue_tabs_dropped += tabbed.dropped;
+  }
+}
+
 }  // namespace
 
 std::string piece_label(int index) {
@@ -71,16 +125,23 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
     throw EngineError(Status::invalid_argument, "margin, spacing and footer must not be negative");
   if (!std::isfinite(options.seam_allowance) || options.seam_allowance < 0.0)
     throw EngineError(Status::invalid_argument, "the seam allowance must not be negative (mm)");
+  if (!std::isfinite(options.glue_tabs) || options.glue_tabs < 0.0)
+    throw EngineError(Status::invalid_argument, "the glue tabs' height must not be negative (mm)");
+  if (options.seam_allowance > 0.0 && options.glue_tabs > 0.0)
+    throw EngineError(Status::invalid_argument, "a seam allowance or glue tabs, not both");
   const double allowance = options.seam_allowance;
+  // mm kept around every piece for what is cut outside its outline.
+  const double reserve = allowance + options.glue_tabs;
   const double usable_w = options.sheet_width - 2.0 * options.margin;
   const double usable_h = options.sheet_height - 2.0 * options.margin - options.footer;
   if (usable_w <= 0.0 || usable_h <= 0.0)
     throw EngineError(Status::invalid_argument, "the margins leave no room on the sheet");
-  if (2.0 * allowance >= std::min(usable_w, usable_h)) {
+  if (2.0 * reserve >= std::min(usable_w, usable_h)) {
     std::ostringstream message;
     message.precision(4);
-    message << "a seam allowance of " << allowance << " mm leaves no room for a piece on the printable "
-            << usable_w << " x " << usable_h << " mm of the sheet";
+    message << (allowance > 0.0 ? "a seam allowance of " : "glue tabs of ") << reserve
+            << " mm leave no room for a piece on the printable " << usable_w << " x " << usable_h
+            << " mm of the sheet";
     throw EngineError(Status::invalid_argument, message.str());
   }
 
@@ -105,8 +166,8 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
   // Standing (turned a quarter more) when only that fits: needs_stand[p].
   const auto fits = [&](double mm_per_unit, std::vector<char>* stand) {
     for (size_t p = 0; p < n_pieces; ++p) {
-      const double w = box[p].sizes().x() * mm_per_unit + 2.0 * allowance;
-      const double h = box[p].sizes().y() * mm_per_unit + 2.0 * allowance;
+      const double w = box[p].sizes().x() * mm_per_unit + 2.0 * reserve;
+      const double h = box[p].sizes().y() * mm_per_unit + 2.0 * reserve;
       const bool lying = w <= usable_w && h <= usable_h;
       const bool standing = h <= usable_w && w <= usable_h;
       if (!lying && !standing) return static_cast<int>(p);
@@ -131,11 +192,11 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
   std::vector<char> stand(n_pieces, 0);
   const int too_big = fits(mm_per_unit, &stand);
   if (too_big >= 0) {
-    const Eigen::Vector2d size = box[too_big].sizes() * mm_per_unit + Vec2::Constant(2.0 * allowance);
+    const Eigen::Vector2d size = box[too_big].sizes() * mm_per_unit + Vec2::Constant(2.0 * reserve);
     double fitting = 0.0;  // the largest 1-2-5 scale that would fit this piece
-    // (the allowance keeps its mm at any scale)
-    const double ratio = std::min((std::max(usable_w, usable_h) - 2.0 * allowance) / (size.x() - 2.0 * allowance),
-                                  (std::min(usable_w, usable_h) - 2.0 * allowance) / (size.y() - 2.0 * allowance));
+    // (the reserve keeps its mm at any scale)
+    const double ratio = std::min((std::max(usable_w, usable_h) - 2.0 * reserve) / (size.x() - 2.0 * reserve),
+                                  (std::min(usable_w, usable_h) - 2.0 * reserve) / (size.y() - 2.0 * reserve));
     for (double decade = 1.0; decade < 1e10 && fitting == 0.0; decade *= 10.0)
       for (double step : {1.0, 2.0, 5.0})
         if (1.0 / (decade * step) <= ratio) {
@@ -162,7 +223,7 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
   std::vector<size_t> order(n_pieces);
   for (size_t p = 0; p < n_pieces; ++p) order[p] = p;
   const auto placed_size = [&](size_t p) {
-    const Vec2 s = box[p].sizes() * mm_per_unit + Vec2::Constant(2.0 * allowance);
+    const Vec2 s = box[p].sizes() * mm_per_unit + Vec2::Constant(2.0 * reserve);
     return stand[p] ? Vec2(s.y(), s.x()) : s;
   };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return placed_size(a).y() > placed_size(b).y(); });
@@ -213,8 +274,8 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
     for (int f : faces_of[p])
       for (int k = 0; k < 3; ++k) {
         const Vec2 q = r * unfolded.corners.row(3 * f + k).transpose();
-        layout.corners.row(3 * f + k) << origin[p].x() + allowance + (q.x() - turned.min().x()) * mm_per_unit,
-            origin[p].y() + allowance + (turned.max().y() - q.y()) * mm_per_unit;
+        layout.corners.row(3 * f + k) << origin[p].x() + reserve + (q.x() - turned.min().x()) * mm_per_unit,
+            origin[p].y() + reserve + (turned.max().y() - q.y()) * mm_per_unit;
       }
     // The cut line: the outline offset by the allowance, drawn to within
     // kCutLineTolerance.
@@ -301,6 +362,7 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
       }
     }
   }
+  if (options.glue_tabs > 0.0) add_tabs(unfolded, triangles, options.glue_tabs, layout);
   return layout;
 }
 

@@ -27,6 +27,9 @@ struct LayoutOptions {
   // line is the outline offset outward by it (seam_allowance.h) and the
   // outline becomes the seam line; 0: the outline is the cut line.
   double seam_allowance = 0.0;
+  // mm: glue tabs this high on one side (piece_a's) of every seam
+  // (glue_tabs.h), folded along the seam; 0: none. Not with a seam allowance.
+  double glue_tabs = 0.0;
 };
 
 // A label at a point of a sheet, text centred there, turned by `angle`.
@@ -43,7 +46,8 @@ struct PlacedPiece {
   Eigen::Vector2d size = Eigen::Vector2d::Zero();  // its upright bounding box on the sheet, mm,
                                                    // seam allowance included
   // With a seam allowance: the cut line, mm on the sheet, the outline's
-  // offset (from_hull: that of its convex hull, see offset_outline); else empty.
+  // offset (from_hull: that of its convex hull, see offset_outline); with
+  // glue tabs: the outline with its tabs; else empty (the outline is cut).
   std::vector<Eigen::Vector2d> cut_line;
   bool cut_line_from_hull = false;
   SheetLabel label;                                // "A", "B", ... at the (sampled) face centre
@@ -60,6 +64,12 @@ struct MatchMark {
   SheetLabel label;
 };
 
+// Where a glue tab is folded: its seam side's corners on a sheet, mm.
+struct FoldLine {
+  int sheet = 0;
+  std::vector<Eigen::Vector2d> points;
+};
+
 struct Layout {
   LayoutOptions options;           // as used (scale resolved when automatic)
   int sheets = 0;
@@ -67,6 +77,9 @@ struct Layout {
   std::vector<PlacedPiece> pieces;
   std::vector<std::string> seam_labels;  // per seam: "1", "2", ...; both sides carry it
   std::vector<MatchMark> marks;          // two per seam
+  std::vector<FoldLine> fold_lines;      // one per glue tab
+  int glue_tabs = 0;                     // tabs placed
+  int glue_tabs_dropped = 0;             // seam sides where no tab fit (add_glue_tabs)
 };
 
 // Packs the pieces of `unfolded` (from unfold() on this mesh's `triangles`).
@@ -74,9 +87,10 @@ struct Layout {
 // when only that fits), mirrored never (the sheet shows the side the face
 // normals point to), then placed by first-fit decreasing height on shelves,
 // so that the bounding boxes, hence the pieces (their cut lines with a seam
-// allowance), are at least `spacing` apart and inside the margins. Throws
+// allowance or glue tabs), are at least `spacing` apart and inside the margins. Throws
 // EngineError(invalid_argument) for a non-positive or non-finite size, a
-// negative, non-finite or too wide seam allowance, a margin that leaves no room, or a piece
+// negative, non-finite or too wide seam allowance or glue tab, both of them, a
+// margin that leaves no room, or a piece
 // that does not fit the printable area at the given scale (the message names
 // the piece, its size and the scale that would fit).
 Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,

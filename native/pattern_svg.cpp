@@ -58,8 +58,10 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
       << "<title>Developable pattern, sheet " << sheet + 1 << " of " << layout.sheets << "</title>\n"
       << "<rect id=\"page\" x=\"0\" y=\"0\" width=\"" << mm(o.sheet_width) << "\" height=\""
       << mm(o.sheet_height) << "\" fill=\"#ffffff\"/>\n";
-  // The outlines: the cut lines, or with a seam allowance the seam lines
-  // (dashed) inside the cut lines (the allowance paler).
+  // The outlines: the cut lines; with a seam allowance the seam lines
+  // (dashed) inside the cut lines, with glue tabs the pieces inside their
+  // tabbed cut lines and the tabs' fold lines (dashed). What is cut outside
+  // the outline is paler.
   const auto outline_path = [&](size_t p) {
     std::ostringstream d;
     for (const auto& loop : unfolded.pieces[p].outline) {
@@ -69,14 +71,14 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
     }
     return d.str();
   };
-  const bool allowance = o.seam_allowance > 0.0;
-  out << "<g id=\"cut-lines\" fill=\"" << (allowance ? "#eef4fb" : "#dbe8f6")
+  const bool allowance = o.seam_allowance > 0.0, tabs = o.glue_tabs > 0.0;
+  out << "<g id=\"cut-lines\" fill=\"" << (allowance || tabs ? "#eef4fb" : "#dbe8f6")
       << "\" stroke=\"#000000\" stroke-width=\"0.2\" stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
   for (size_t p = 0; p < unfolded.pieces.size(); ++p) {
     if (layout.pieces[p].sheet != sheet) continue;
     out << "<path id=\"piece-" << escape(layout.pieces[p].label.text) << "\" d=\"";
-    if (allowance) {
-      const auto& cut = layout.pieces[p].cut_line;
+    const auto& cut = layout.pieces[p].cut_line;
+    if (!cut.empty()) {
       for (size_t i = 0; i < cut.size(); ++i) out << (i == 0 ? "M" : "L") << mm(cut[i].x()) << " " << mm(cut[i].y()) << " ";
       out << "Z";
     } else {
@@ -84,12 +86,24 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
     }
     out << "\"/>\n";
   }
-  if (allowance) {
-    out << "</g>\n<g id=\"seam-lines\" fill=\"#dbe8f6\" stroke=\"#000000\" stroke-width=\"0.2\" "
-           "stroke-dasharray=\"1.5 1\" stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
+  if (allowance || tabs) {
+    out << "</g>\n<g id=\"" << (allowance ? "seam-lines" : "tabbed-pieces") << "\" fill=\"#dbe8f6\" "
+        << (allowance ? "stroke=\"#000000\" stroke-width=\"0.2\" stroke-dasharray=\"1.5 1\" " : "stroke=\"none\" ")
+        << "stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
     for (size_t p = 0; p < unfolded.pieces.size(); ++p)
       if (layout.pieces[p].sheet == sheet)
         out << "<path id=\"seam-" << escape(layout.pieces[p].label.text) << "\" d=\"" << outline_path(p) << "\"/>\n";
+  }
+  if (tabs) {
+    out << "</g>\n<g id=\"fold-lines\" fill=\"none\" stroke=\"#000000\" stroke-width=\"0.2\" "
+           "stroke-dasharray=\"1.5 1\" stroke-linejoin=\"round\">\n";
+    for (const FoldLine& fold : layout.fold_lines) {
+      if (fold.sheet != sheet) continue;
+      out << "<path d=\"";
+      for (size_t i = 0; i < fold.points.size(); ++i)
+        out << (i == 0 ? "M" : "L") << mm(fold.points[i].x()) << " " << mm(fold.points[i].y()) << " ";
+      out << "\"/>\n";
+    }
   }
   out << "</g>\n<g id=\"match-marks\" stroke=\"#c0392b\" stroke-width=\"0.25\">\n";
   for (const MatchMark& mark : layout.marks)

@@ -14,7 +14,9 @@ namespace developable {
 // and a viewBox in mm, so that a renderer at 100 % prints true sizes. Holds a
 // white page, the pieces' outlines as cut lines (filled light blue; with a
 // seam allowance the cut lines are the offsets, group "cut-lines", and the
-// outlines are dashed seam lines, group "seam-lines"), each
+// outlines are dashed seam lines, group "seam-lines"; with glue tabs the cut
+// lines hold the tabs, the pieces are filled inside them, group
+// "tabbed-pieces", and the tabs' dashed fold lines are group "fold-lines"), each
 // piece's label, the match marks (a red notch and the seam's label on both
 // sides), and a footer with a scale bar, the scale and the sheet's number.
 std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int sheet);

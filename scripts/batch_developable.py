@@ -16,7 +16,7 @@ Every setting of the add-on is an option (--preset OBJECT --move-limit 2
 --pattern OUT.svg (then Unfold Pattern: the flat pieces as SVG sheets, the UV
 map "Developable Pattern", seams and strain; --sheet a4|a3|letter|WxH,
 --pattern-scale X|auto, --unit scene|m|cm|mm|in, --seam-tolerance PERCENT,
---seam-allowance MM).
+--seam-allowance MM, --glue-tabs MM).
 
 The add-on is taken from, in order: --addon-module NAME; an installed add-on or
 extension whose module ends with "developable_mesh"; the repository's addon/
@@ -233,6 +233,8 @@ def build_parser(addon):
                    help="largest stretch of a piece's outline edge before it is split")
     p.add_argument("--seam-allowance", type=float, default=None, metavar="MM",
                    help="cut every piece this far outside its outline on the sheet (sewing, gluing)")
+    p.add_argument("--glue-tabs", type=float, default=None, metavar="MM",
+                   help="a glue tab this high on one side of every seam (papercraft)")
     defs = props.all_property_definitions()
     for name, prop in defs.items():
         kw = prop.keywords if hasattr(prop, "keywords") else prop[1]
@@ -277,6 +279,8 @@ def unfold_pattern(ob, args):
         settings.seam_tolerance = args.seam_tolerance
     if args.seam_allowance is not None:
         settings.seam_allowance = args.seam_allowance
+    if args.glue_tabs is not None:
+        settings.glue_tabs = args.glue_tabs
     settings.export_svg = True
     bpy.context.view_layer.objects.active = ob
     try:

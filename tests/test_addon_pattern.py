@@ -7,6 +7,8 @@ import shutil
 import pytest
 
 from blender_support import SCRIPTS, results, run_blender
+from devkit import meshes
+from devkit.obj import write_obj
 
 PATTERN_SCENARIOS = SCRIPTS / "pattern_scenarios.py"
 
@@ -103,5 +105,15 @@ def test_batch_script_writes_the_pattern(blender_env, tmp_path):
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     text = pathlib.Path(r["pattern"]["files"][0]).read_text()
     assert 'id="seam-lines"' in text and "stroke-dasharray" in text
+    # Glue Tabs: a closed cylinder is cut once, and that seam gets a tab
+    # folded along a dashed line.
+    band = tmp_path / "cylinder.obj"
+    write_obj(band, *meshes.cylinder())
+    proc, r = _batch(blender_env, band, tmp_path / "cylinder.blend", "--pattern", svg, "--pattern-scale", "auto",
+                     "--glue-tabs", "5")
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    text = pathlib.Path(r["pattern"]["files"][0]).read_text()
+    folds = text.split('id="fold-lines"')[1].split("</g>")[0]
+    assert r["pattern"]["seams"] >= 1 and folds.count("<path") == r["pattern"]["seams"]
     proc, r = _batch(blender_env, "demo:cone_band", out, "--pattern", svg, "--sheet", "60x60")
     assert proc.returncode == 1 and "does not fit" in r["pattern"]["error"]

@@ -335,6 +335,55 @@ def test_seam_allowance_surrounds_every_piece(native, woman_result, woman_patter
                 assert gap >= spacing - 1e-6, (i, j)
 
 
+def polygon_area(polygon):
+    x, y = polygon[:, 0], polygon[:, 1]
+    return 0.5 * (x * np.roll(y, -1) - np.roll(x, -1) * y).sum()
+
+
+def self_crossings(polygon):
+    """Pairs of non-adjacent edges of the closed polygon that cross properly."""
+    a, b = polygon, np.roll(polygon, -1, axis=0)
+    e = b - a
+
+    def side(p, q, r):
+        return np.sign((q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) -
+                       (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0]))
+    A, B = a[:, None], b[:, None]
+    C, D = a[None], b[None]
+    cross = (side(A, B, C) * side(A, B, D) < 0) & (side(C, D, A) * side(C, D, B) < 0)
+    n = len(polygon)
+    i, j = np.nonzero(np.triu(cross, 2))
+    return [(x, y) for x, y in zip(i, j) if not (x == 0 and y == n - 1)] if len(e) else []
+
+
+def test_glue_tabs_on_every_piece_that_has_room(native, woman_result, tmp_path):
+    # human_woman's 949 pieces with 3 mm tabs: each cut line a simple polygon
+    # holding its piece, every seam side tabbed or counted as dropped.
+    engine, tri = woman_result
+    out = tmp_path / "woman.svg"
+    result = native.unfold(engine.positions, tri, engine.patch_ids, params={"scale": 0, "glue_tabs_mm": 3.0},
+                           svg_path=str(out))
+    st = result.stats
+    assert st["glue_tabs"] >= 0.8 * st["seams"] and st["glue_tabs"] + st["glue_tabs_dropped"] >= st["seams"]
+    folds = 0
+    for path in result.files:
+        cut, pieces = svg_paths(path, "cut-lines"), svg_paths(path, "tabbed-pieces")
+        assert cut.keys() == pieces.keys() and cut
+        for label, line in cut.items():
+            assert self_crossings(line) == [], label
+            corners = pieces[label]  # on the cut line (untabbed) or inside it (a tab's fold)
+            on = distance_to_polyline(corners, line) < 1e-6
+            assert (on | inside_polygon(corners, line)).all(), label
+            assert abs(polygon_area(line)) >= abs(polygon_area(corners)) - 1e-9, label
+        folds += sum(1 for g in ET.parse(path).getroot().iter(SVG + "g") if g.get("id") == "fold-lines"
+                     for _ in g.iter(SVG + "path"))
+    assert folds == st["glue_tabs"]
+    with pytest.raises(native.EngineError) as err:
+        native.unfold(engine.positions, tri, engine.patch_ids,
+                      params={"scale": 0, "glue_tabs_mm": 3.0, "seam_allowance_mm": 3.0})
+    assert "not both" in err.value.message
+
+
 @pytest.mark.skipif(RSVG is None, reason="rsvg-convert (librsvg2-bin) is not installed")
 def test_seam_allowance_on_the_rasterised_sheet(native, tmp_path):
     # The 10 cm x 5 cm plane with a 10 mm allowance: cut 120 x 70 mm with
@@ -380,7 +429,7 @@ def test_bad_input_gets_a_status(native, tmp_path):
         native.unfold(pos, tri)
     assert err.value.status_name == "INVALID_ARGUMENT" and "1:10" in err.value.message
     for bad in ({"sheet_width_mm": 0}, {"scale": -1}, {"margin_mm": 200}, {"seam_tolerance": -1},
-                {"seam_allowance_mm": -1}, {"seam_allowance_mm": float("nan")}):
+                {"seam_allowance_mm": -1}, {"seam_allowance_mm": float("nan")}, {"glue_tabs_mm": -2}):
         with pytest.raises(native.EngineError) as err:
             native.unfold(pos, tri, params=dict(bad, scale=bad.get("scale", 0)))
         assert err.value.status_name == "INVALID_ARGUMENT"

@@ -86,3 +86,24 @@ def test_tool_seam_allowance(tool_path, tmp_path):
         proc = run_tool(tool_path, tmp_path / "plane.obj", tmp_path / "o.obj", "--quiet", "--pattern",
                         tmp_path / "p.svg", "--seam-allowance", bad)
         assert proc.returncode != 0 and "seam" in proc.stderr and "allowance" in proc.stderr, proc.stderr
+
+
+def test_tool_glue_tabs(tool_path, tmp_path):
+    # A closed cylinder band in cm: cut once, so one seam and one tab, its
+    # fold line dashed; not together with a seam allowance.
+    pos, tri = meshes.cylinder()
+    mesh = tmp_path / "band.obj"
+    write_obj(mesh, pos * 10, tri)
+    report = tmp_path / "r.json"
+    proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
+                    "--unit", "cm", "--scale", "auto", "--glue-tabs", "5", "--report", report)
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads(report.read_text())["pattern"]
+    assert data["parameters"]["glue_tabs_mm"] == 5
+    assert data["stats"]["seams"] == 1 and data["stats"]["glue_tabs"] == 1 and data["stats"]["glue_tabs_dropped"] == 0
+    root = ET.parse(tmp_path / "p.svg").getroot()
+    groups = {g.get("id"): g for g in root.iter("{http://www.w3.org/2000/svg}g")}
+    assert len(list(groups["fold-lines"].iter("{http://www.w3.org/2000/svg}path"))) == 1
+    proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
+                    "--glue-tabs", "5", "--seam-allowance", "5")
+    assert proc.returncode == 2 and "not both" in proc.stderr

@@ -70,6 +70,9 @@ const char* const usage_text =
     "  --seam-allowance MM  cut every piece this far outside its outline, on paper,\n"
     "                       for sewing or gluing; the outline is drawn dashed as the\n"
     "                       seam line (default 0: the outline is the cut line)\n"
+    "  --glue-tabs MM       a glue tab this high on one side of every seam, folded\n"
+    "                       along it (papercraft; default 0: none; not with\n"
+    "                       --seam-allowance)\n"
     "  --quiet              no progress on stderr\n"
     "  --help               this text\n"
     "\n"
@@ -176,7 +179,8 @@ std::string pattern_json(const dev_pattern* pattern, const dev_pattern_params& p
        << ", \"margin_mm\": " << json_number(params.margin_mm) << ", \"unit\": \"" << params.unit_name
        << "\", \"unit_mm\": " << json_number(params.unit_mm)
        << ", \"seam_tolerance\": " << json_number(params.seam_tolerance)
-       << ", \"seam_allowance_mm\": " << json_number(params.seam_allowance_mm) << "},\n";
+       << ", \"seam_allowance_mm\": " << json_number(params.seam_allowance_mm)
+       << ", \"glue_tabs_mm\": " << json_number(params.glue_tabs_mm) << "},\n";
   json << "    \"stats\": {\"pieces\": " << st.pieces << ", \"sheets\": " << st.sheets
        << ", \"seams\": " << st.seams << ", \"cut_edges\": " << st.cut_edges
        << ", \"splits\": " << st.splits << ", \"max_strain\": " << json_number(st.max_strain)
@@ -186,7 +190,8 @@ std::string pattern_json(const dev_pattern* pattern, const dev_pattern_params& p
        << ", \"time_unfold_ms\": " << json_number(st.time_unfold_ms)
        << ", \"time_layout_ms\": " << json_number(st.time_layout_ms)
        << ", \"time_total_ms\": " << json_number(st.time_total_ms)
-       << ", \"cut_lines_from_hull\": " << st.cut_lines_from_hull << "},\n    \"files\": [";
+       << ", \"cut_lines_from_hull\": " << st.cut_lines_from_hull << ", \"glue_tabs\": " << st.glue_tabs
+       << ", \"glue_tabs_dropped\": " << st.glue_tabs_dropped << "},\n    \"files\": [";
   char path[4096];
   for (int64_t i = 0; i < st.svg_files; ++i) {
     dev_pattern_svg_file(pattern, i, path, sizeof path);
@@ -382,6 +387,8 @@ int main(int argc, char** argv) {
       pattern_params.seam_tolerance = parse_number(arg, value());
     } else if (arg == "--seam-allowance") {
       pattern_params.seam_allowance_mm = parse_number(arg, value());
+    } else if (arg == "--glue-tabs") {
+      pattern_params.glue_tabs_mm = parse_number(arg, value());
     } else if (arg == "--quiet" || arg == "-q") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -472,6 +479,9 @@ int main(int argc, char** argv) {
                              stats.unchanged_reason == DEV_UNCHANGED_ALREADY_FLAT;
   if (stats.result == DEV_RESULT_UNCHANGED || stats.result_message[0] != '\0')
     std::fprintf(stderr, "%s: %s\n", nothing_to_do ? "note" : "WARNING", stats.result_message);
+  if (pattern_stats.glue_tabs_dropped > 0)
+    std::fprintf(stderr, "note: %lld seam sides have no glue tab: none fitted, not even at half the height\n",
+                 static_cast<long long>(pattern_stats.glue_tabs_dropped));
   if (pattern_stats.cut_lines_from_hull > 0)
     std::fprintf(stderr,
                  "note: the cut lines of %lld pieces follow the offset of their convex hull (the seam "

@@ -145,5 +145,35 @@ TEST(PatternLayout, SeamAllowanceWidensEveryPieceAndItsCutLine) {
   EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
 }
 
+TEST(PatternLayout, GlueTabsOnOneSideOfEverySeam) {
+  // The closed cylinder is cut once: one seam, both sides on the one piece,
+  // a tab on one of them, folded along it.
+  const auto m = test::cylinder(8, 24);
+  const UnfoldResult r = unfold(m.positions, m.triangles, {});
+  ASSERT_EQ(r.seams.size(), 1u);
+  LayoutOptions o;
+  o.scale = 0.02;
+  const Layout plain = layout_pattern(r, m.triangles, o);
+  o.glue_tabs = 5.0;
+  const Layout layout = layout_pattern(r, m.triangles, o);
+  EXPECT_EQ(layout.glue_tabs, 1);
+  EXPECT_EQ(layout.glue_tabs_dropped, 0);
+  ASSERT_EQ(layout.fold_lines.size(), 1u);
+  EXPECT_EQ(layout.fold_lines[0].points.size(), r.seams[0].edges.size() + 1);
+  EXPECT_NEAR(layout.pieces[0].size.x(), plain.pieces[0].size.x() + 10.0, 1e-9);
+  // The cut line: the outline with the seam side's inner corners moved out
+  // onto the tab's edge, and the tab's two shoulders (where its 45 degree
+  // ends meet its top).
+  EXPECT_EQ(layout.pieces[0].cut_line.size(), r.pieces[0].outline.front().size() + 2);
+  const std::string svg = pattern_svg(layout, r, 0);
+  EXPECT_NE(svg.find("id=\"fold-lines\""), std::string::npos);
+  EXPECT_NE(svg.find("id=\"tabbed-pieces\""), std::string::npos);
+  o.seam_allowance = 3.0;  // not both
+  EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
+  o.seam_allowance = 0.0;
+  o.glue_tabs = -1.0;
+  EXPECT_THROW(layout_pattern(r, m.triangles, o), EngineError);
+}
+
 }  // namespace
 }  // namespace developable

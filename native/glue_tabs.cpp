@@ -110,8 +110,8 @@ TabbedOutline add_glue_tabs(const std::vector<Vec2>& outline, std::vector<TabRun
     for (double h : {height, 0.5 * height}) {
       const std::vector<Vec2> top = tab_top(chain, normal, h);
       const size_t m = top.size();
-      bool fits = m >= 3;  // and finite: a run with a zero-length edge has no outward side there
-      for (const Vec2& p : top) fits = fits && p.allFinite();
+      bool fits = m >= 3;
+      for (const Vec2& p : top) fits = fits && p.allFinite();  // (a zero-length edge's normal is 0)
       for (size_t i = 0; fits && i + 1 < m; ++i) {
         for (size_t j = i + 2; fits && j + 1 < m; ++j) fits = !proper_crossing(top[i], top[i + 1], top[j], top[j + 1]);
         for (int e = 0; fits && e < n; ++e)

@@ -65,14 +65,15 @@ void add_tabs(const UnfoldResult& unfolded, const Triangles& triangles, double h
     const int n = static_cast<int>(unfolded.pieces[static_cast<size_t>(seam.piece_a)].outline.front().size());
     std::vector<TabRun> seam_runs;
     int previous = -2;
+    bool lost = false;  // an edge not on the outline as expected: no tab there, counted once
     for (size_t i = 0; i < seam.edges.size(); ++i) {
       const int f = seam.faces[i][0];
       int edge = -1;
       for (int k = 0; k < 3; ++k)
         if (triangles(f, k) == seam.edges[i][0]) edge = position[static_cast<size_t>(3 * f + k)];
-      if (edge < 0) {  // not on the outline as expected: no tab there
+      if (edge < 0) {
         previous = -2;
-        ++layout.glue_tabs_dropped;
+        lost = true;
         continue;
       }
       if (previous >= 0 && edge == (previous + 1) % n)
@@ -88,6 +89,7 @@ void add_tabs(const UnfoldResult& unfolded, const Triangles& triangles, double h
       seam_runs.back().count += seam_runs.front().count;
       seam_runs.erase(seam_runs.begin());
     }
+    layout.glue_tabs_dropped += lost ? 1 : 0;
     auto& piece_runs = runs[static_cast<size_t>(seam.piece_a)];
     piece_runs.insert(piece_runs.end(), seam_runs.begin(), seam_runs.end());
   }

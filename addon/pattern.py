@@ -299,8 +299,13 @@ class VIEW3D_PT_developable_pattern(Panel):
         sub.enabled = not settings.auto_scale
         sub.prop(settings, "scale")
         col.prop(settings, "seam_tolerance")
-        col.prop(settings, "seam_allowance")
-        col.prop(settings, "glue_tabs")
+        # One or the other: the set one greys the other out.
+        row = col.row(align=True)
+        row.enabled = settings.glue_tabs == 0.0
+        row.prop(settings, "seam_allowance")
+        row = col.row(align=True)
+        row.enabled = settings.seam_allowance == 0.0
+        row.prop(settings, "glue_tabs")
         col = layout.column(align=True)
         col.prop(settings, "export_svg")
         sub = col.row()

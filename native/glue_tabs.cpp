@@ -1,5 +1,6 @@
 #include "glue_tabs.h"
 
+#include "plane_geometry.h"
 #include "types.h"
 
 #include <algorithm>
@@ -9,26 +10,6 @@ namespace developable {
 namespace {
 
 using Vec2 = Eigen::Vector2d;
-
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-// Segments [a, b] and [c, d] cross at a point inside both (touching ends or
-// collinear overlaps do not count: tabs meet the outline at their ends).
-bool proper_crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double d1 = cross2(b - a, c - a), d2 = cross2(b - a, d - a);
-  const double d3 = cross2(d - c, a - c), d4 = cross2(d - c, b - c);
-  return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
-}
-
-bool inside(const std::vector<Vec2>& polygon, const Vec2& x) {
-  bool in = false;
-  for (size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++)
-    if ((polygon[i].y() > x.y()) != (polygon[j].y() > x.y()) &&
-        x.x() < (polygon[j].x() - polygon[i].x()) * (x.y() - polygon[i].y()) / (polygon[j].y() - polygon[i].y()) +
-                    polygon[i].x())
-      in = !in;
-  return in;
-}
 
 // The tab's outer edge over `chain`, from its first corner to its last:
 // min(height, s, L - s) out along the outward normal (the bisector at a
@@ -88,18 +69,15 @@ TabbedOutline add_glue_tabs(const std::vector<Vec2>& outline, std::vector<TabRun
     }
   }
   std::sort(runs.begin(), runs.end(), [](const TabRun& a, const TabRun& b) { return a.first < b.first; });
-  double twice_area = 0.0;
-  for (int i = 0; i < n; ++i) twice_area += cross2(outline[i], outline[(i + 1) % n]);
   // Outward: right of each edge when the piece is on its left (counter-clockwise).
-  const double side = twice_area > 0.0 ? 1.0 : -1.0;
+  const double side = signed_area(outline) > 0.0 ? 1.0 : -1.0;
   const auto outward = [&](const Vec2& a, const Vec2& b) {
     const Vec2 u = (b - a).normalized();
     return Vec2(side * u.y(), -side * u.x());
   };
 
   TabbedOutline result;
-  std::vector<std::vector<Vec2>> tops(runs.size());
-  std::vector<std::vector<Vec2>> accepted;
+  std::vector<std::vector<Vec2>> tops(runs.size());  // empty where no tab fits
   for (size_t r = 0; r < runs.size(); ++r) {
     const TabRun& run = runs[r];
     std::vector<Vec2> chain, normal;
@@ -113,22 +91,21 @@ TabbedOutline add_glue_tabs(const std::vector<Vec2>& outline, std::vector<TabRun
       bool fits = m >= 3;
       for (const Vec2& p : top) fits = fits && p.allFinite();  // (a zero-length edge's normal is 0)
       for (size_t i = 0; fits && i + 1 < m; ++i) {
-        for (size_t j = i + 2; fits && j + 1 < m; ++j) fits = !proper_crossing(top[i], top[i + 1], top[j], top[j + 1]);
+        for (size_t j = i + 2; fits && j + 1 < m; ++j) fits = !segments_cross(top[i], top[i + 1], top[j], top[j + 1]);
         for (int e = 0; fits && e < n; ++e)
-          fits = !proper_crossing(top[i], top[i + 1], outline[static_cast<size_t>(e)],
+          fits = !segments_cross(top[i], top[i + 1], outline[static_cast<size_t>(e)],
                                   outline[static_cast<size_t>((e + 1) % n)]);
-        for (const auto& other : accepted)
-          for (size_t j = 0; fits && j + 1 < other.size(); ++j)
-            fits = !proper_crossing(top[i], top[i + 1], other[j], other[j + 1]);
+        for (size_t earlier = 0; earlier < r; ++earlier)
+          for (size_t j = 0; fits && j + 1 < tops[earlier].size(); ++j)
+            fits = !segments_cross(top[i], top[i + 1], tops[earlier][j], tops[earlier][j + 1]);
       }
       if (fits) {
         std::vector<Vec2> region(chain);  // the tab: up the run, back along its outer edge
         region.insert(region.end(), top.rbegin() + 1, top.rend() - 1);
-        fits = !inside(region, before) && !inside(region, after);
+        fits = !inside_polygon(region, before) && !inside_polygon(region, after);
       }
       if (fits) {
         tops[r] = top;
-        accepted.push_back(top);
         result.folds.push_back(chain);
         break;
       }

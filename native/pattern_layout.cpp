@@ -1,6 +1,6 @@
 #include "pattern_layout.h"
 
-#include "convex_hull.h"
+#include "plane_geometry.h"
 #include "glue_tabs.h"
 #include "seam_allowance.h"
 
@@ -19,8 +19,6 @@ using Vec2 = Eigen::Vector2d;
 // mm: how far the chords that draw a cut line's round corners may stray from
 // the circle, a cutting plotter's step.
 constexpr double kCutLineTolerance = 0.01;
-
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 // The turn (radians) that brings the hull's smallest-area bounding rectangle
 // upright, tried along every hull edge (at most 720 of them).
@@ -95,9 +93,7 @@ void add_tabs(const UnfoldResult& unfolded, const Triangles& triangles, double h
   }
   for (size_t p = 0; p < unfolded.pieces.size(); ++p) {
     if (runs[p].empty()) continue;
-    std::vector<Vec2> outline;
-    for (Eigen::Index row : unfolded.pieces[p].outline.front()) outline.push_back(layout.corners.row(row).transpose());
-    TabbedOutline tabbed = add_glue_tabs(outline, runs[p], height);
+    TabbedOutline tabbed = add_glue_tabs(outline_on_sheet(unfolded, layout.corners, p), runs[p], height);
     layout.pieces[p].cut_line = std::move(tabbed.cut_line);
     for (auto& fold : tabbed.folds) layout.fold_lines.push_back({layout.pieces[p].sheet, std::move(fold)});
     layout.glue_tabs += tabbed.tabs;
@@ -106,6 +102,12 @@ void add_tabs(const UnfoldResult& unfolded, const Triangles& triangles, double h
 }
 
 }  // namespace
+
+std::vector<Vec2> outline_on_sheet(const UnfoldResult& unfolded, const FlatCorners& sheet_corners, size_t p) {
+  std::vector<Vec2> outline;
+  for (Eigen::Index row : unfolded.pieces[p].outline.front()) outline.push_back(sheet_corners.row(row).transpose());
+  return outline;
+}
 
 std::string piece_label(int index) {
   std::string text;
@@ -282,9 +284,7 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
     // The cut line: the outline offset by the allowance, drawn to within
     // kCutLineTolerance.
     if (allowance > 0.0) {
-      std::vector<Vec2> outline;
-      for (Eigen::Index row : unfolded.pieces[p].outline.front()) outline.push_back(layout.corners.row(row).transpose());
-      OffsetOutline cut = offset_outline(outline, allowance, kCutLineTolerance);
+      OffsetOutline cut = offset_outline(outline_on_sheet(unfolded, layout.corners, p), allowance, kCutLineTolerance);
       layout.pieces[p].cut_line = std::move(cut.points);
       layout.pieces[p].cut_line_from_hull = cut.from_hull;
     }

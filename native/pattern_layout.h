@@ -96,6 +96,11 @@ struct Layout {
 Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles,
                       const LayoutOptions& options = {});
 
+// Piece p's outline on its sheet (its one loop, since pieces are discs): the
+// layout's corners in the unfolding's outline order, mm.
+std::vector<Eigen::Vector2d> outline_on_sheet(const UnfoldResult& unfolded, const FlatCorners& sheet_corners,
+                                              size_t p);
+
 // "A" .. "Z", "AA", "AB", ... for piece index 0, 1, ...
 std::string piece_label(int index);
 

@@ -30,6 +30,15 @@ std::string mm(double x) {
   return s == "-0" ? "0" : s;
 }
 
+// The d attribute of a polyline (closed: a polygon), mm.
+std::string path_data(const std::vector<Eigen::Vector2d>& points, bool closed) {
+  std::ostringstream d;
+  for (size_t i = 0; i < points.size(); ++i)
+    d << (i == 0 ? "M" : "L") << mm(points[i].x()) << " " << mm(points[i].y()) << " ";
+  if (closed) d << "Z";
+  return d.str();
+}
+
 void text(std::ostringstream& out, const SheetLabel& label, const char* fill) {
   // Baseline a third of the height below the point: the text sits centred on it.
   out << "<text x=\"" << mm(label.at.x()) << "\" y=\"" << mm(label.at.y() + 0.35 * label.size)
@@ -62,15 +71,7 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
   // (dashed) inside the cut lines, with glue tabs the pieces inside their
   // tabbed cut lines and the tabs' fold lines (dashed). What is cut outside
   // the outline is paler.
-  const auto outline_path = [&](size_t p) {
-    std::ostringstream d;
-    for (const auto& loop : unfolded.pieces[p].outline) {
-      for (size_t i = 0; i < loop.size(); ++i)
-        d << (i == 0 ? "M" : "L") << mm(layout.corners(loop[i], 0)) << " " << mm(layout.corners(loop[i], 1)) << " ";
-      d << "Z ";
-    }
-    return d.str();
-  };
+  const auto outline_path = [&](size_t p) { return path_data(outline_on_sheet(unfolded, layout.corners, p), true); };
   const bool allowance = o.seam_allowance > 0.0, tabs = o.glue_tabs > 0.0;
   out << "<g id=\"cut-lines\" fill=\"" << (allowance || tabs ? "#eef4fb" : "#dbe8f6")
       << "\" stroke=\"#000000\" stroke-width=\"0.2\" stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
@@ -78,13 +79,7 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
     if (layout.pieces[p].sheet != sheet) continue;
     out << "<path id=\"piece-" << escape(layout.pieces[p].label.text) << "\" d=\"";
     const auto& cut = layout.pieces[p].cut_line;
-    if (!cut.empty()) {
-      for (size_t i = 0; i < cut.size(); ++i) out << (i == 0 ? "M" : "L") << mm(cut[i].x()) << " " << mm(cut[i].y()) << " ";
-      out << "Z";
-    } else {
-      out << outline_path(p);
-    }
-    out << "\"/>\n";
+    out << (cut.empty() ? outline_path(p) : path_data(cut, true)) << "\"/>\n";
   }
   if (allowance || tabs) {
     out << "</g>\n<g id=\"" << (allowance ? "seam-lines" : "tabbed-pieces") << "\" fill=\"#dbe8f6\" "
@@ -99,10 +94,7 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
            "stroke-dasharray=\"1.5 1\" stroke-linejoin=\"round\">\n";
     for (const FoldLine& fold : layout.fold_lines) {
       if (fold.sheet != sheet) continue;
-      out << "<path d=\"";
-      for (size_t i = 0; i < fold.points.size(); ++i)
-        out << (i == 0 ? "M" : "L") << mm(fold.points[i].x()) << " " << mm(fold.points[i].y()) << " ";
-      out << "\"/>\n";
+      out << "<path d=\"" << path_data(fold.points, false) << "\"/>\n";
     }
   }
   out << "</g>\n<g id=\"match-marks\" stroke=\"#c0392b\" stroke-width=\"0.25\">\n";

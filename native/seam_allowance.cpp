@@ -1,6 +1,6 @@
 #include "seam_allowance.h"
 
-#include "convex_hull.h"
+#include "plane_geometry.h"
 #include "types.h"
 
 #include <Eigen/Geometry>
@@ -14,17 +14,9 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // The outward normal of the counter-clockwise edge direction u, and its angle.
 Vec2 outward(const Vec2& u) { return Vec2(u.y(), -u.x()); }
 double angle_of(const Vec2& v) { return std::atan2(v.y(), v.x()); }
-
-double signed_area(const std::vector<Vec2>& loop) {
-  double twice = 0.0;
-  for (size_t i = 0; i < loop.size(); ++i) twice += cross2(loop[i], loop[(i + 1) % loop.size()]);
-  return 0.5 * twice;
-}
 
 // A straight piece of the offset's boundary.
 struct Piece {

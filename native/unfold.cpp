@@ -1,5 +1,6 @@
 #include "unfold.h"
 
+#include "plane_geometry.h"
 #include "union_find.h"
 
 #include <Eigen/Eigenvalues>
@@ -334,8 +335,6 @@ bool choose_cuts(const Positions& positions, const LocalPiece& piece, const Edge
     is_cut[e] = edges.uses[e][1] >= 0 && in_graph[e];
   return true;
 }
-
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 // Proper crossings between non-adjacent outline segments, on a uniform grid.
 bool outline_is_simple(const std::vector<Vec2>& uv, const std::vector<std::array<int, 2>>& segments) {

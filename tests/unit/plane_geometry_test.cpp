@@ -1,5 +1,5 @@
-// convex_hull.h from the promises in its header.
-#include "convex_hull.h"
+// plane_geometry.h from the promises in its header.
+#include "plane_geometry.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,6 @@ namespace developable {
 namespace {
 
 using Vec2 = Eigen::Vector2d;
-
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 TEST(ConvexHull, SquareWithInsideAndEdgePointsGivesItsFourCornersCounterClockwise) {
   const std::vector<Vec2> hull = convex_hull({{1, 1}, {0, 0}, {2, 0}, {1, 0}, {2, 2}, {0, 2}, {0.5, 1.5}});
@@ -33,6 +31,19 @@ TEST(ConvexHull, RandomPointsAreAllOnTheInnerSideOfEveryEdge) {
     EXPECT_GT(cross2(b - a, c - b), 0.0);  // a strict left turn: no corner on an edge
     for (const Vec2& p : points) EXPECT_GE(cross2(b - a, p - a), -1e-12);
   }
+}
+
+TEST(PlaneGeometry, AreaCrossingsAndInside) {
+  const std::vector<Vec2> square{{0, 0}, {2, 0}, {2, 2}, {0, 2}};
+  EXPECT_DOUBLE_EQ(signed_area(square), 4.0);
+  EXPECT_DOUBLE_EQ(signed_area({{0, 0}, {0, 2}, {2, 2}, {2, 0}}), -4.0);
+  EXPECT_TRUE(segments_cross({0, 0}, {2, 2}, {0, 2}, {2, 0}));
+  EXPECT_FALSE(segments_cross({0, 0}, {2, 2}, {2, 2}, {3, 0}));  // touching ends
+  EXPECT_FALSE(segments_cross({0, 0}, {2, 0}, {1, 0}, {3, 0}));  // collinear overlap
+  EXPECT_FALSE(segments_cross({0, 0}, {1, 1}, {0, 2}, {2, 0}));  // would meet past an end
+  EXPECT_TRUE(inside_polygon(square, {1, 1}));
+  EXPECT_FALSE(inside_polygon(square, {3, 1}));
+  EXPECT_FALSE(inside_polygon({{0, 0}, {4, 0}, {4, 4}, {3, 4}, {3, 1}, {1, 1}, {1, 4}, {0, 4}}, {2, 3}));  // in the U's slot
 }
 
 TEST(ConvexHull, FewOrCollinearPoints) {

@@ -5,7 +5,7 @@ layout; no SVG) and draw the docs' pictures.
     /usr/bin/python3 bench/pattern.py [--build BUILD] [--out docs] [--no-large]
 
 Cases: human_woman after the engine with its defaults (its patches), also
-with a seam allowance, the paper's curved cone, and exact developable bands (a
+with a seam allowance and with glue tabs, the paper's curved cone, and exact developable bands (a
 curved fold swept long, so one patch) of about 100k and 1M faces, also with a
 seam allowance. Targets: human_woman and 100k under
 1 s, 1M under 10 s. Writes the table between the markers of OUT/pattern.md
@@ -89,6 +89,8 @@ def main():
                           *woman, auto, 3))
     rows.append(time_case(native, "human_woman after the engine, 3 mm seam allowance", *woman,
                           {"scale": 0, "seam_allowance_mm": 3.0}, 3))
+    rows.append(time_case(native, "human_woman after the engine, 3 mm glue tabs", *woman,
+                          {"scale": 0, "glue_tabs_mm": 3.0}, 3))
     rows.append(time_case(native, "human_woman base mesh, one patch", woman_pos, woman_tri, None, auto, 1))
     cone = meshes.curved_cone()
     rows.append(time_case(native, "curved cone (paper, Fig. 3) as it is", *cone, None, auto, 3))

@@ -203,7 +203,8 @@ def engine_property_definitions():
             description="On meshes of up to 25000 inner vertices, also polish the mesh with its "
             "noise smoothed (each vertex put on a quadric fitted to its neighbours, creases kept) "
             "and keep that if it moved the mesh less and is as flat: a noisy scan then loses its "
-            "noise, not its shape (beyond the paper)"),
+            "noise, not its shape; on a one-piece sheet also the nearest developable mesh found "
+            "from the smoothed one (beyond the paper)"),
     }
 
 

@@ -45,6 +45,10 @@ constexpr double kIterativeTolerance = 1e-8;
 // Rounds of putting back the corners of faces a step turns over before the
 // step counts as not kept.
 constexpr int kRevertRounds = 10;
+// The damping of the projection's steps (PolishOptions::pull_steps): next to
+// none, as they must reach the input's side of the constraints, not only
+// lower K.
+constexpr double kPullDamping = 1e-9;
 
 // dK/dx of the constrained vertices, with a pattern fixed at construction:
 // row r (constrained vertex v) holds the three coordinates of every free
@@ -276,6 +280,62 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
     return system.compute(std::move(normal));
   };
   Positions current = start;
+  // `current` moved by `length` times `step` (free vertices' coordinates),
+  // each vertex then put back within `options.limit` of its reference.
+  const auto moved = [&](const Eigen::VectorXd& step, double length) {
+    Positions trial = current;
+    for (Eigen::Index v = 0; v < n; ++v) {
+      const int u = free_of[static_cast<size_t>(v)];
+      if (u < 0) continue;
+      trial.row(v) += length * step.segment<3>(3 * u).transpose();
+      if (options.limit > 0.0) {
+        const Eigen::RowVector3d move = trial.row(v) - reference.row(v);
+        const double distance = move.norm();
+        if (distance > options.limit) trial.row(v) = reference.row(v) + move * (options.limit / distance);
+      }
+    }
+    return trial;
+  };
+  // Faces near 90 degrees from their reference turn over at any step length
+  // (human_woman), and faces a step would crease (the crease guard): their
+  // corners keep their place instead, ring by ring. False if faces still
+  // turn over after kRevertRounds rounds.
+  const auto unfold = [&](Positions& trial) {
+    for (int round = 0;; ++round) {
+      const std::vector<Eigen::Index> turned =
+          folded_faces(face_normals(trial, triangles), reference_normals, crease_guard);
+      if (turned.empty()) return true;
+      if (round == kRevertRounds) return false;
+      for (Eigen::Index f : turned)
+        for (int c = 0; c < 3; ++c) trial.row(triangles(f, c)) = current.row(triangles(f, c));
+    }
+  };
+  // The projection's steps (PolishOptions::pull_steps).
+  for (int pull = 0; pull < options.pull_steps; ++pull) {
+    const double kept_damping = damping;
+    damping = kPullDamping;
+    const bool ok = factor();
+    damping = kept_damping;
+    if (!ok) break;
+    Eigen::VectorXd toward(3 * free_count);
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (const int u = free_of[static_cast<size_t>(v)]; u >= 0)
+        toward.segment<3>(3 * u) = (reference.row(v) - current.row(v)).transpose();
+    const Eigen::VectorXd step =
+        toward - jacobian.matrix().transpose() * system.solve(residual + jacobian.matrix() * toward);
+    if (!step.allFinite()) break;
+    Positions trial;
+    bool kept = false;
+    for (double length = 1.0; length >= std::ldexp(1.0, -kHalvings) && !kept; length *= 0.5) {
+      trial = moved(step, length);
+      kept = unfold(trial);
+    }
+    if (!kept) break;
+    current = std::move(trial);
+    defects = angle_defects(current, triangles, region.rows);
+    residual = jacobian.evaluate(current, defects);
+    ++result.iterations;
+  }
   double energy = residual.squaredNorm();
   bool factored = false;
   std::vector<std::pair<double, Eigen::Index>> history;  // (sum K^2, flat rows) after each kept step
@@ -309,33 +369,8 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
       }
       double length = 1.0;
       for (int halving = 0; halving <= kHalvings && !kept; ++halving, length *= 0.5) {
-        trial = current;
-        for (Eigen::Index v = 0; v < n; ++v) {
-          const int u = free_of[static_cast<size_t>(v)];
-          if (u < 0) continue;
-          trial.row(v) += length * step.segment<3>(3 * u).transpose();
-          if (options.limit > 0.0) {
-            const Eigen::RowVector3d move = trial.row(v) - reference.row(v);
-            const double distance = move.norm();
-            if (distance > options.limit) trial.row(v) = reference.row(v) + move * (options.limit / distance);
-          }
-        }
-        // Faces near 90 degrees from their reference turn over at any step
-        // length (human_woman), and faces the step would crease (the crease
-        // guard): their corners keep their place instead, ring by ring.
-        bool folded = false;
-        for (int round = 0;; ++round) {
-          const std::vector<Eigen::Index> turned =
-              folded_faces(face_normals(trial, triangles), reference_normals, crease_guard);
-          if (turned.empty()) break;
-          if (round == kRevertRounds) {
-            folded = true;
-            break;
-          }
-          for (Eigen::Index f : turned)
-            for (int c = 0; c < 3; ++c) trial.row(triangles(f, c)) = current.row(triangles(f, c));
-        }
-        if (folded) continue;
+        trial = moved(step, length);
+        if (!unfold(trial)) continue;
         trial_defects = angle_defects(trial, triangles, region.rows);
         trial_energy = residual_at(trial_defects).squaredNorm();
         kept = trial_energy < energy;

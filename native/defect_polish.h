@@ -81,6 +81,21 @@ struct PolishOptions {
   // polish then keeps PolishResult::largest_move from its first step, so
   // whether it went past the bound does not depend on when it became known.
   const std::atomic<double>* late_give_up_move = nullptr;
+  // > 0: the first `pull_steps` steps are Gauss-Newton steps of the
+  // projection onto the developable meshes nearest `reference`: each moves
+  // the free vertices toward `reference` as far as the linearised defects
+  // allow and takes K to zero to first order,
+  //   step = r - J^T (J J^T + mu I)^{-1} (K + J r),  r = reference - x,
+  // kept whatever sum K^2 does (a face turned over or creased keeps its
+  // corners, as in the other steps, or the step is halved); then the polish
+  // goes on as without.
+  // From a smoothed start this finds the developable mesh nearest the input
+  // in the smooth start's basin, not in the noisy input's, where a vertex
+  // whose angle sum hardly depends on its height is pushed out (least
+  // motion's projected candidate, docs/method.md "Projected smoothed
+  // input"). The give-up bounds and largest_move count from the first step
+  // after the pull.
+  int pull_steps = 0;
 };
 
 struct PolishResult {

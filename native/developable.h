@@ -151,7 +151,9 @@ typedef struct dev_params {
   int32_t polish_smoothed_input; /* nonzero: where the polish of the input competes with the
                                    deformation's result (meshes of up to 25000 scored vertices), the
                                    polish of the input with its noise smoothed (local quadric fits),
-                                   and of that after one deformation step, compete too. Default 1. */
+                                   of that after one deformation step and, on one patch, the input
+                                   projected onto developable meshes from its smoothing compete
+                                   too. Default 1. */
 } dev_params;
 
 typedef struct dev_stats {
@@ -189,7 +191,8 @@ typedef struct dev_stats {
                                    mesh less than the deformation and its polish, as flat */
   /* ABI 6: */
   int32_t input_smoothed;       /* 1 (with polished_from_input): the polish started from the input
-                                   with its noise smoothed */
+                                   with its noise smoothed (or projected the input onto developable
+                                   meshes from there) */
   /* ABI 7: */
   int32_t unchanged_reason;     /* DEV_UNCHANGED_*: why the input came back (0 when improved) */
 } dev_stats;

@@ -185,6 +185,21 @@ constexpr int kCandidateDirectRows = 3000;
 // raw polish moves it less, in 5 steps instead of 7. One other family run
 // changes, by 0.01 of its ratio (seeds 0-9 and 100-102).
 constexpr double kSameStartShare = 0.05;
+// Least motion's projected candidate: the input projected onto the
+// developable meshes (PolishOptions::pull_steps, kProjectionSteps Gauss-Newton
+// steps, then polished) from its smoothing without the feature guard
+// (JetDenoiseOptions::feature_angle_deg = kProjectionSmoothing). A vertex
+// whose angle sum hardly depends on its height (a valence-4 vertex of an
+// alternating grid, a sliver's corner, a flat ruling) is pushed out by the
+// polishes from the noisy input, 1.5-2.5 times the noise; projected from the
+// smooth start it stays near the surface. The smoothing may cut a crease,
+// which the projection does not restore, so this candidate must also move
+// no vertex farther than the result (LeastMotion::wins). Tuning seeds 0-9 of
+// the families: mean log Hausdorff ratio to the twin 0.043 -> 0.019, runs
+// above 1.5 times the noise 51 -> 38 of 470; docs/method.md, "Projected
+// smoothed input".
+constexpr int kProjectionSteps = 5;
+constexpr double kProjectionSmoothing = 90.0;
 
 // How much a closed mesh's mean |defect| may grow (fraction) in exchange for
 // flat patches (see run_pipeline).
@@ -217,6 +232,10 @@ double rms_move(const Positions& a, const Positions& b) {
   return std::sqrt((a - b).rowwise().squaredNorm().mean());
 }
 
+double largest_move(const Positions& a, const Positions& b) {
+  return (a - b).rowwise().norm().maxCoeff();
+}
+
 // The figures least motion compares of two results.
 struct Developability {
   double flat = 0.0, mean_abs = 0.0, max_abs = 0.0;
@@ -245,7 +264,7 @@ class LeastMotion {
   LeastMotion(const Positions& input, const Triangles& triangles, const VertexFaces& connectivity,
               const DefectStats& before, const Positions& result, const Developability& figures)
       : input_(input), triangles_(triangles), connectivity_(connectivity), before_(before), result_(&result),
-        figures_(figures), move_(rms_move(result, input)) {}
+        figures_(figures), move_(rms_move(result, input)), largest_move_(largest_move(result, input)) {}
 
   // The result's RMS distance to the input.
   double move() const { return move_; }
@@ -254,9 +273,15 @@ class LeastMotion {
   void set_shape_roughness(double roughness) { shape_roughness_ = roughness; }
 
   // Whether the candidate wins; if it does, it is the result from now on.
-  bool wins(const Positions& candidate, const Normals& candidate_normals, const Developability& figures) {
+  // `at_most_as_far`: it must also move no vertex farther than the result's
+  // largest move.
+  bool wins(const Positions& candidate, const Normals& candidate_normals, const Developability& figures,
+            bool at_most_as_far = false) {
     const double candidate_move = rms_move(candidate, input_);
-    if (!as_developable(figures, figures_, before_) || candidate_move >= move_) return false;
+    const double candidate_largest = largest_move(candidate, input_);
+    if (!as_developable(figures, figures_, before_) || candidate_move >= move_ ||
+        (at_most_as_far && candidate_largest > largest_move_))
+      return false;
     if (reference_ < 0.0)
       reference_ = std::max(shape_roughness_,
                             normal_roughness(face_normals(*result_, triangles_), triangles_, connectivity_));
@@ -265,6 +290,7 @@ class LeastMotion {
     result_ = nullptr;
     figures_ = figures;
     move_ = candidate_move;
+    largest_move_ = candidate_largest;
     reference_ = std::max(shape_roughness_, roughness);
     return true;
   }
@@ -277,6 +303,7 @@ class LeastMotion {
   const Positions* result_;  // the first result, until its roughness is known
   Developability figures_;
   double move_;
+  double largest_move_;  // the result's largest vertex move
   double shape_roughness_ = 0.0;
   double reference_ = -1.0;  // max(shape_roughness_, the result's roughness); < 0: not yet needed
 };
@@ -1305,7 +1332,10 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     if (scored_count <= kLeastMoveVertices)
       polish_options.active_defect = std::min(polish_options.active_defect, kPolishActiveShare * before.mean_abs);
     const auto polish_start = Clock::now();
-    const bool candidates = improved && scored_count <= kLeastMoveVertices;
+    // One patch whose deformation found nothing better is polished from the
+    // input, and its polish has the same candidates to compete with.
+    const bool deformed = improved;
+    const bool candidates = (improved || !piecewise) && scored_count <= kLeastMoveVertices;
     // Least motion's candidates: polishes of the input (or of its smoothed
     // versions), damped as such, with conjugate gradients from
     // kCandidateDirectRows rows.
@@ -1371,10 +1401,11 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     } else {
       // Least motion's candidates, each returned if it wins: the polish of
       // the input; of the input with its noise smoothed (jet_denoise.h,
-      // within the limit); and of that after one deformation step toward
+      // within the limit); of that after one deformation step toward
       // targets refit on it, which takes off the noise the smoothing left
-      // in the normals (docs/method.md, "Smoothed input"). The last two
-      // only with options.polish_smoothed_input. The polish of the input
+      // in the normals (docs/method.md, "Smoothed input"); and on one patch
+      // the input projected from its smoothing (kProjectionSteps). The last
+      // three only with options.polish_smoothed_input. The polish of the input
       // does not depend on the result, so it runs beside the result's
       // polishes; the smoothed starts need the result's move, so they run
       // after them, beside each other. Each polish is the same whatever
@@ -1385,26 +1416,34 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         bool smoothed;
         double move;  // RMS from the input
         PolishResult polished;
+        bool projected = false;  // polished as the projection of the input (kProjectionSteps)
       };
       std::vector<Start> starts;
       starts.push_back({positions, false, 0.0, {}});
-      // The polish of the input gives up past the result's move once the
-      // result's polishes have set it (PolishOptions::late_give_up_move).
-      std::atomic<double> result_move{0.0};
-      PolishOptions input_options = candidate_options;
-      input_options.late_give_up_move = &result_move;
-      run_concurrently({[&](const Progress& share) {
-                          polish_result(share);
-                          result_move = rms_move(result.positions, positions);
-                        },
-                        [&](const Progress& share) {
-                          starts[0].polished = polish_defects(positions, positions, normals_before, triangles,
-                                                              scored, pinned, input_options, share);
-                        }},
-                       options.threads, progress.sub(0.95, 0.98));
+      if (deformed) {
+        // The polish of the input gives up past the result's move once the
+        // result's polishes have set it (PolishOptions::late_give_up_move).
+        std::atomic<double> result_move{0.0};
+        PolishOptions input_options = candidate_options;
+        input_options.late_give_up_move = &result_move;
+        run_concurrently({[&](const Progress& share) {
+                            polish_result(share);
+                            result_move = rms_move(result.positions, positions);
+                          },
+                          [&](const Progress& share) {
+                            starts[0].polished = polish_defects(positions, positions, normals_before, triangles,
+                                                                scored, pinned, input_options, share);
+                          }},
+                         options.threads, progress.sub(0.95, 0.98));
+      } else {
+        // The result's polish is the polish of the input.
+        polish_result(progress.sub(0.95, 0.98));
+      }
       LeastMotion least_motion(positions, triangles, connectivity, before, result.positions,
                                developability_of(stats));
-      if (options.polish_smoothed_input) {
+      // Nothing to compete with when even the polish of the input found
+      // nothing better.
+      if (options.polish_smoothed_input && improved) {
         Positions smoothed = jet_denoise(positions, triangles, connectivity, pinned);
         if (limit > 0.0) clamp_to_tolerance(smoothed, positions, limit);
         const double smoothing_move = rms_move(smoothed, positions);
@@ -1421,6 +1460,26 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
           const double stepped_move = rms_move(smoothed, positions);
           starts.push_back({std::move(smoothed), true, stepped_move, {}});
         }
+        // The projection of the input from its smoothing without the feature
+        // guard (kProjectionSmoothing), on one patch (a segmented object's
+        // creases and corners are cut by that smoothing: it won on none of
+        // the shared meshes and cost human_woman 0.7 s) and where the
+        // smoothing moves the input enough (kSameStartShare; the guarded one
+        // may leave every vertex of a sliver mesh where it is).
+        if (!piecewise) {
+          JetDenoiseOptions unguarded;
+          unguarded.feature_angle_deg = kProjectionSmoothing;
+          Positions projected_start = jet_denoise(positions, triangles, connectivity, pinned, unguarded);
+          if (limit > 0.0) clamp_to_tolerance(projected_start, positions, limit);
+          // Sliver faces the smoothing turned over keep the input's corners.
+          for (std::vector<Eigen::Index> turned = turned_over_faces(face_normals(projected_start, triangles), normals_before);
+               !turned.empty(); turned = turned_over_faces(face_normals(projected_start, triangles), normals_before))
+            for (Eigen::Index f : turned)
+              for (int c = 0; c < 3; ++c) projected_start.row(triangles(f, c)) = positions.row(triangles(f, c));
+          const double projected_move = rms_move(projected_start, positions);
+          if (projected_move >= kSameStartShare * least_motion.move())
+            starts.push_back({std::move(projected_start), true, projected_move, {}, true});
+        }
       }
       // Each candidate is judged as if they were polished one after the
       // other, against the result as it then stands: a candidate wins only
@@ -1428,13 +1487,13 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       // far at any step (PolishResult::largest_move) is out.
       const auto judge_candidate = [&](const Start& start) {
         const PolishResult& direct = start.polished;
-        if (direct.iterations == 0 || start.move >= least_motion.move() ||
+        if (direct.iterations == 0 || (!start.projected && start.move >= least_motion.move()) ||
             direct.largest_move > least_motion.move())
           return;
         const Normals direct_normals = face_normals(direct.positions, triangles);
         const Figures now = judge.measure(direct.positions, direct_normals);
         if (judge.eligible(now) && now.score < input_bar &&
-            least_motion.wins(direct.positions, direct_normals, developability_of(now))) {
+            least_motion.wins(direct.positions, direct_normals, developability_of(now), start.projected)) {
           keep(direct.positions, now);
           stats.polish_iterations = direct.iterations;
           stats.polished_from_input = true;
@@ -1449,11 +1508,15 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       // farther.
       candidate_options.give_up_move = least_motion.move();
       std::vector<Job> smoothed_polishes;
+      PolishOptions projection_options = candidate_options;
+      projection_options.pull_steps = kProjectionSteps;
+      projection_options.active_defect = 0.0;
       for (size_t k = 1; k < starts.size(); ++k) {
-        if (starts[k].move >= least_motion.move()) continue;
+        if (!starts[k].projected && starts[k].move >= least_motion.move()) continue;
         smoothed_polishes.push_back([&, k](const Progress& share) {
-          starts[k].polished = polish_defects(starts[k].positions, positions, normals_before, triangles, scored,
-                                              pinned, candidate_options, share);
+          starts[k].polished =
+              polish_defects(starts[k].positions, positions, normals_before, triangles, scored, pinned,
+                             starts[k].projected ? projection_options : candidate_options, share);
         });
       }
       run_concurrently(smoothed_polishes, options.threads, progress.sub(0.98, 1.0));

@@ -267,6 +267,42 @@ TEST(DefectPolish, KeepsPinsAndTheLimit) {
   }
 }
 
+// pull_steps: from a developable start (the clean cylinder), the projection's
+// steps move the mesh toward the reference (a noisy copy) as far as the
+// defects allow, and the polish then leaves it developable: nearer the
+// reference than its start, no face turned over. Without them there is
+// nothing to do (the start is flat).
+TEST(DefectPolish, PullStepsProjectTheReferenceOntoDevelopableMeshes) {
+  const test::Mesh clean = test::cylinder(10, 30);
+  const auto noisy = noisy_cylinder(0.01, 5);
+  const std::vector<bool> interior = interior_vertices(clean.positions, clean.triangles);
+  const Normals normals = face_normals(noisy.positions, noisy.triangles);
+  const auto rms = [](const Positions& a, const Positions& b) {
+    return std::sqrt((a - b).rowwise().squaredNorm().mean());
+  };
+  PolishOptions plain;
+  plain.active_defect = 0.0;
+  const PolishResult unpulled = polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior,
+                                               {}, plain, Progress{});
+  EXPECT_EQ(unpulled.iterations, 0);
+  PolishOptions pulled = plain;
+  pulled.pull_steps = 5;
+  const PolishResult r = polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior, {},
+                                        pulled, Progress{});
+  EXPECT_GE(r.iterations, 5);
+  EXPECT_LT(largest_defect(r.positions, clean.triangles, interior), 1e-6);
+  const double before = rms(clean.positions, noisy.positions), after = rms(r.positions, noisy.positions);
+  EXPECT_LT(after, 0.9 * before) << before << " -> " << after;
+  EXPECT_TRUE(turned_over_faces(face_normals(r.positions, clean.triangles), normals).empty());
+  // The limit holds in the projection's steps too.
+  pulled.limit = 0.002;
+  const PolishResult limited = polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior,
+                                              {}, pulled, Progress{});
+  for (Eigen::Index v = 0; v < clean.positions.rows(); ++v)
+    EXPECT_LE((limited.positions.row(v) - noisy.positions.row(v)).norm(),
+              std::max(pulled.limit, (clean.positions.row(v) - noisy.positions.row(v)).norm()) * (1 + 1e-12));
+}
+
 TEST(DefectPolish, OnlyConstrainedVerticesCount) {
   // Constraining half the vertices flattens those; the polish never reads the others.
   const auto m = noisy_cylinder(0.01, 3);

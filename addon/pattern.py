@@ -259,8 +259,8 @@ class MESH_OT_unfold_pattern(Operator):
         self.report({'INFO'}, "%s on %s from the %s, worst strain %.3g %%%s"
                     % (pieces, sheets, source, 100.0 * st["max_strain"], where))
         if st["glue_tabs_dropped"] > 0:
-            self.report({'WARNING'}, "%s without a glue tab: none fitted, not even at half the height"
-                        % checks.plural(st["glue_tabs_dropped"], "seam side", "seam sides"))
+            self.report({'WARNING'}, "%s without a glue tab: none fitted on either side, not even at "
+                        "half the height" % checks.plural(st["glue_tabs_dropped"], "seam", "seams"))
         if st["cut_lines_from_hull"] > 0:
             self.report({'WARNING'}, "The cut lines of %s follow the convex hull: the seam allowance is "
                         "wider than asked in the hollows"

@@ -318,7 +318,8 @@ typedef struct dev_pattern_stats {
                                   their convex hull (the exact offset did not close, on a
                                   near-degenerate outline); wider than asked in the hull's pockets */
   int64_t glue_tabs;          /* tabs placed */
-  int64_t glue_tabs_dropped;  /* seam sides without a tab: none fitted, not even at half height */
+  int64_t glue_tabs_dropped;  /* seams without a tab: none fitted on either side, not even at half
+                                 height (a seam in runs on the outline: each run) */
 } dev_pattern_stats;
 
 typedef struct dev_pattern_piece {

@@ -53,7 +53,7 @@ std::vector<Vec2> tab_top(const std::vector<Vec2>& chain, const std::vector<Vec2
 
 }  // namespace
 
-TabbedOutline add_glue_tabs(const std::vector<Vec2>& outline, std::vector<TabRun> runs, double height) {
+TabbedOutline add_glue_tabs(const std::vector<Vec2>& outline, const std::vector<TabRun>& runs, double height) {
   if (!std::isfinite(height) || !(height > 0.0))
     throw EngineError(Status::invalid_argument, "add_glue_tabs: the height must be positive");
   const int n = static_cast<int>(outline.size());
@@ -68,7 +68,6 @@ TabbedOutline add_glue_tabs(const std::vector<Vec2>& outline, std::vector<TabRun
       edge = 1;
     }
   }
-  std::sort(runs.begin(), runs.end(), [](const TabRun& a, const TabRun& b) { return a.first < b.first; });
   // Outward: right of each edge when the piece is on its left (counter-clockwise).
   const double side = signed_area(outline) > 0.0 ? 1.0 : -1.0;
   const auto outward = [&](const Vec2& a, const Vec2& b) {
@@ -111,6 +110,7 @@ TabbedOutline add_glue_tabs(const std::vector<Vec2>& outline, std::vector<TabRun
       }
     }
     if (tops[r].empty()) ++result.dropped; else ++result.tabs;
+    result.tabbed.push_back(!tops[r].empty());
   }
 
   // The cut line: the outline's corners, a tabbed run's inner corners

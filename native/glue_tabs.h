@@ -23,6 +23,7 @@ struct TabbedOutline {
   std::vector<std::vector<Eigen::Vector2d>> folds;
   int tabs = 0;     // runs that got a tab
   int dropped = 0;  // runs where no tab fits (none at `height` nor at half of it)
+  std::vector<bool> tabbed;  // per run, in the order given: whether it got a tab
 };
 
 // Glue tabs on the runs of a simple closed outline (a piece on the sheet).
@@ -36,10 +37,12 @@ struct TabbedOutline {
 // tab is kept only if its outer edge crosses neither itself, the outline nor
 // an earlier tab, and no outline corner next to the run lies inside it; else
 // it is tried at half the height, else dropped (the run stays a plain cut
-// line). Runs are tried in order of their first edge. Throws
+// line). Runs are tried in the order given: an earlier run has the first
+// claim on the room around the piece. Throws
 // EngineError(invalid_argument) for a non-positive or non-finite height, an
 // outline of fewer than 3 corners, or a run out of range or overlapping
 // another.
-TabbedOutline add_glue_tabs(const std::vector<Eigen::Vector2d>& outline, std::vector<TabRun> runs, double height);
+TabbedOutline add_glue_tabs(const std::vector<Eigen::Vector2d>& outline, const std::vector<TabRun>& runs,
+                            double height);
 
 }  // namespace developable

@@ -48,57 +48,125 @@ std::string format_scale(double scale) {
   return out.str();
 }
 
-// Glue tabs on side a of every seam: each seam's side-a edges are runs of
-// its piece's outline edges (side a is left of the directed edge, as the
-// piece is of its outline, so they run the outline's way), tabbed by
-// add_glue_tabs; the cut lines and fold lines go into `layout`.
+// The runs of one side of a seam on its piece's outline, in the outline's
+// order (side a is left of the directed edges, as the piece is of its
+// outline, so its edges run the outline's way; side b's run it backwards).
+// `position`: outline edge (3 f + k: corner k of face f to the next) -> its
+// index on its piece's loop. `lost`: an edge not on the outline as expected.
+struct SideRuns {
+  std::vector<TabRun> runs;
+  bool lost = false;
+};
+
+SideRuns side_runs(const UnfoldResult& unfolded, const Triangles& triangles, const std::vector<int>& position,
+                   const UnfoldSeam& seam, int side) {
+  const int piece = side == 0 ? seam.piece_a : seam.piece_b;
+  const int n = static_cast<int>(unfolded.pieces[static_cast<size_t>(piece)].outline.front().size());
+  SideRuns result;
+  int previous = -2;
+  const size_t m = seam.edges.size();
+  for (size_t j = 0; j < m; ++j) {
+    const size_t i = side == 0 ? j : m - 1 - j;
+    const int f = seam.faces[i][static_cast<size_t>(side)];
+    const int from = seam.edges[i][static_cast<size_t>(side)];  // side b's edges go the other way
+    int edge = -1;
+    for (int k = 0; k < 3; ++k)
+      if (triangles(f, k) == from) edge = position[static_cast<size_t>(3 * f + k)];
+    if (edge < 0) {
+      previous = -2;
+      result.lost = true;
+      continue;
+    }
+    if (previous >= 0 && edge == (previous + 1) % n)
+      ++result.runs.back().count;  // the run goes on
+    else
+      result.runs.push_back({edge, 1});
+    previous = edge;
+  }
+  // A seam around a closed ring starts anywhere on it: its last run may end
+  // where its first begins on the flat outline, one run there.
+  auto& runs = result.runs;
+  if (runs.size() > 1 && (runs.back().first + runs.back().count) % n == runs.front().first) {
+    runs.back().count += runs.front().count;
+    runs.erase(runs.begin());
+  }
+  return result;
+}
+
+// Glue tabs on one side of every seam: side a's runs first (add_glue_tabs);
+// a seam none of whose side-a runs got a tab then tries side b, on pieces
+// that keep the tabs they have and fit the new ones around them. The cut
+// lines and fold lines go into `layout`; dropped counts, per seam, the runs
+// of the side it ended on that got no tab (and that side once if an edge of
+// it was not on its outline).
 void add_tabs(const UnfoldResult& unfolded, const Triangles& triangles, double height, Layout& layout) {
-  // Outline edge (3 f + k: corner k of face f to the next) -> its index on its piece's loop.
   std::vector<int> position(static_cast<size_t>(unfolded.corners.rows()), -1);
   for (const UnfoldPiece& piece : unfolded.pieces)
     for (size_t j = 0; j < piece.outline.front().size(); ++j)
       position[static_cast<size_t>(piece.outline.front()[j])] = static_cast<int>(j);
-  std::vector<std::vector<TabRun>> runs(unfolded.pieces.size());
-  for (const UnfoldSeam& seam : unfolded.seams) {
-    const int n = static_cast<int>(unfolded.pieces[static_cast<size_t>(seam.piece_a)].outline.front().size());
-    std::vector<TabRun> seam_runs;
-    int previous = -2;
-    bool lost = false;  // an edge not on the outline as expected: no tab there, counted once
-    for (size_t i = 0; i < seam.edges.size(); ++i) {
-      const int f = seam.faces[i][0];
-      int edge = -1;
-      for (int k = 0; k < 3; ++k)
-        if (triangles(f, k) == seam.edges[i][0]) edge = position[static_cast<size_t>(3 * f + k)];
-      if (edge < 0) {
-        previous = -2;
-        lost = true;
-        continue;
-      }
-      if (previous >= 0 && edge == (previous + 1) % n)
-        ++seam_runs.back().count;  // the run goes on
-      else
-        seam_runs.push_back({edge, 1});
-      previous = edge;
-    }
-    // A seam around a closed ring starts anywhere on it: its last run may
-    // end where its first begins on the flat outline, one run there.
-    if (seam_runs.size() > 1 &&
-        (seam_runs.back().first + seam_runs.back().count) % n == seam_runs.front().first) {
-      seam_runs.back().count += seam_runs.front().count;
-      seam_runs.erase(seam_runs.begin());
-    }
-    layout.glue_tabs_dropped += lost ? 1 : 0;
-    auto& piece_runs = runs[static_cast<size_t>(seam.piece_a)];
-    piece_runs.insert(piece_runs.end(), seam_runs.begin(), seam_runs.end());
+  const size_t piece_count = unfolded.pieces.size(), seam_count = unfolded.seams.size();
+  // Per piece: its runs, the seam of each and what add_glue_tabs made of them.
+  std::vector<std::vector<TabRun>> runs(piece_count);
+  std::vector<std::vector<size_t>> seam_of(piece_count);
+  std::vector<TabbedOutline> tabbed(piece_count);
+  const auto place = [&](size_t p) {
+    tabbed[p] = add_glue_tabs(outline_on_sheet(unfolded, layout.corners, p), runs[p], height);
+  };
+  // Per seam: the runs without a tab of the side it ended on, plus one if
+  // that side lost an edge.
+  std::vector<int> dropped(seam_count, 0);
+  for (size_t s = 0; s < seam_count; ++s) {
+    const SideRuns a = side_runs(unfolded, triangles, position, unfolded.seams[s], 0);
+    const auto p = static_cast<size_t>(unfolded.seams[s].piece_a);
+    runs[p].insert(runs[p].end(), a.runs.begin(), a.runs.end());
+    seam_of[p].insert(seam_of[p].end(), a.runs.size(), s);
+    dropped[s] = a.lost ? 1 : 0;
   }
-  for (size_t p = 0; p < unfolded.pieces.size(); ++p) {
+  for (size_t p = 0; p < piece_count; ++p)
+    if (!runs[p].empty()) place(p);
+  std::vector<bool> has_tab(seam_count, false);
+  for (size_t p = 0; p < piece_count; ++p)
+    for (size_t r = 0; r < runs[p].size(); ++r) {
+      if (tabbed[p].tabbed[r]) has_tab[seam_of[p][r]] = true;
+      else ++dropped[seam_of[p][r]];
+    }
+
+  // Seams with no tab on side a try side b.
+  std::vector<bool> retried(piece_count, false), on_b(seam_count, false);
+  for (size_t s = 0; s < seam_count; ++s) {
+    if (has_tab[s]) continue;
+    const SideRuns b = side_runs(unfolded, triangles, position, unfolded.seams[s], 1);
+    if (b.runs.empty()) continue;  // nothing to try: side a's count stands
+    const auto p = static_cast<size_t>(unfolded.seams[s].piece_b);
+    if (!retried[p]) {
+      // The piece keeps the tabs it has (tried first, they fit as before).
+      std::vector<TabRun> kept;
+      std::vector<size_t> kept_seams;
+      for (size_t r = 0; r < runs[p].size(); ++r)
+        if (tabbed[p].tabbed[r]) kept.push_back(runs[p][r]), kept_seams.push_back(seam_of[p][r]);
+      runs[p] = std::move(kept);
+      seam_of[p] = std::move(kept_seams);
+      retried[p] = true;
+    }
+    runs[p].insert(runs[p].end(), b.runs.begin(), b.runs.end());
+    seam_of[p].insert(seam_of[p].end(), b.runs.size(), s);
+    on_b[s] = true;
+    dropped[s] = b.lost ? 1 : 0;
+  }
+  for (size_t p = 0; p < piece_count; ++p) {
+    if (!retried[p]) continue;
+    place(p);
+    for (size_t r = 0; r < runs[p].size(); ++r)
+      if (on_b[seam_of[p][r]] && !tabbed[p].tabbed[r]) ++dropped[seam_of[p][r]];
+  }
+
+  for (size_t p = 0; p < piece_count; ++p) {
     if (runs[p].empty()) continue;
-    TabbedOutline tabbed = add_glue_tabs(outline_on_sheet(unfolded, layout.corners, p), runs[p], height);
-    layout.pieces[p].cut_line = std::move(tabbed.cut_line);
-    for (auto& fold : tabbed.folds) layout.fold_lines.push_back({layout.pieces[p].sheet, std::move(fold)});
-    layout.glue_tabs += tabbed.tabs;
-    layout.glue_tabs_dropped += tabbed.dropped;
+    layout.pieces[p].cut_line = std::move(tabbed[p].cut_line);
+    for (auto& fold : tabbed[p].folds) layout.fold_lines.push_back({layout.pieces[p].sheet, std::move(fold)});
+    layout.glue_tabs += tabbed[p].tabs;
   }
+  for (int d : dropped) layout.glue_tabs_dropped += d;
 }
 
 }  // namespace

@@ -27,8 +27,9 @@ struct LayoutOptions {
   // line is the outline offset outward by it (seam_allowance.h) and the
   // outline becomes the seam line; 0: the outline is the cut line.
   double seam_allowance = 0.0;
-  // mm: glue tabs this high on one side (piece_a's) of every seam
-  // (glue_tabs.h), folded along the seam; 0: none. Not with a seam allowance.
+  // mm: glue tabs this high on one side of every seam (piece_a's, piece_b's
+  // where none fits there; glue_tabs.h), folded along the seam; 0: none. Not
+  // with a seam allowance.
   double glue_tabs = 0.0;
 };
 
@@ -79,7 +80,7 @@ struct Layout {
   std::vector<MatchMark> marks;          // two per seam
   std::vector<FoldLine> fold_lines;      // one per glue tab
   int glue_tabs = 0;                     // tabs placed
-  int glue_tabs_dropped = 0;             // seam sides where no tab fit (add_glue_tabs)
+  int glue_tabs_dropped = 0;             // seams (each run of one) with a tab on neither side
 };
 
 // Packs the pieces of `unfolded` (from unfold() on this mesh's `triangles`).

@@ -358,13 +358,16 @@ def self_crossings(polygon):
 
 def test_glue_tabs_on_every_piece_that_has_room(native, woman_result, tmp_path):
     # human_woman's 949 pieces with 3 mm tabs: each cut line a simple polygon
-    # holding its piece, every seam side tabbed or counted as dropped.
+    # holding its piece, every seam tabbed or counted as dropped. Seams
+    # without room on side a try side b: 256 of 2284 were left without a tab
+    # on side a alone, 77 now.
     engine, tri = woman_result
     out = tmp_path / "woman.svg"
     result = native.unfold(engine.positions, tri, engine.patch_ids, params={"scale": 0, "glue_tabs_mm": 3.0},
                            svg_path=str(out))
     st = result.stats
-    assert st["glue_tabs"] >= 0.8 * st["seams"] and st["glue_tabs"] + st["glue_tabs_dropped"] >= st["seams"]
+    assert st["glue_tabs"] >= 0.95 * st["seams"] and st["glue_tabs"] + st["glue_tabs_dropped"] >= st["seams"]
+    assert st["glue_tabs_dropped"] <= 0.05 * st["seams"]
     folds = 0
     for path in result.files:
         cut, pieces = svg_paths(path, "cut-lines"), svg_paths(path, "tabbed-pieces")

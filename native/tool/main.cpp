@@ -481,7 +481,7 @@ int main(int argc, char** argv) {
   if (stats.result == DEV_RESULT_UNCHANGED || stats.result_message[0] != '\0')
     std::fprintf(stderr, "%s: %s\n", nothing_to_do ? "note" : "WARNING", stats.result_message);
   if (pattern_stats.glue_tabs_dropped > 0)
-    std::fprintf(stderr, "note: %lld seam sides have no glue tab: none fitted, not even at half the height\n",
+    std::fprintf(stderr, "note: %lld seams have no glue tab: none fitted on either side, not even at half the height\n",
                  static_cast<long long>(pattern_stats.glue_tabs_dropped));
   if (pattern_stats.cut_lines_from_hull > 0)
     std::fprintf(stderr,

@@ -66,23 +66,31 @@ TEST(GlueTabs, TabThatWouldCrossThePieceIsHalvedOrDropped) {
 }
 
 TEST(GlueTabs, TabsDoNotCrossEachOther) {
-  // Both walls of the slot, 2.5 high: the right wall's (edge 3, first) reaches
-  // x = 6.5; the left wall's (edge 5, from (5, 6) up) would reach 7.5, across
-  // it, so it is halved to x = 6.25. At 3 the halved one still crosses
-  // (6.5 against 6): dropped.
-  const TabbedOutline t = add_glue_tabs(kU, {{5, 1}, {3, 1}}, 2.5);
-  EXPECT_EQ(t.tabs, 2);
-  const auto reaches = [&](double x) {
+  // Both walls of the slot, 2.5 high, the first run given first: the right
+  // wall's (edge 3) reaches x = 6.5; the left wall's (edge 5, from (5, 6)
+  // up) would reach 7.5, across it, so it is halved to x = 6.25. Given the
+  // other way round, the left wall's keeps 7.5 and the right wall's is
+  // halved to 7.75. At 3 the halved one still crosses (6.5 against 6):
+  // dropped.
+  const auto reaches = [](const TabbedOutline& t, double x) {
     bool found = false;
     for (const Vec2& p : t.cut_line) found = found || (std::abs(p.x() - x) < 1e-12 && p.y() > 6.0 && p.y() < 20.0);
     return found;
   };
-  EXPECT_TRUE(reaches(6.5));    // the right wall's tab, 2.5 high
-  EXPECT_TRUE(reaches(6.25));   // the left wall's, halved
-  EXPECT_FALSE(reaches(7.5));   // not at full height
-  const TabbedOutline crowded = add_glue_tabs(kU, {{5, 1}, {3, 1}}, 3.0);
+  const TabbedOutline t = add_glue_tabs(kU, {{3, 1}, {5, 1}}, 2.5);
+  EXPECT_EQ(t.tabs, 2);
+  EXPECT_EQ(t.tabbed, std::vector<bool>({true, true}));
+  EXPECT_TRUE(reaches(t, 6.5));    // the right wall's tab, 2.5 high
+  EXPECT_TRUE(reaches(t, 6.25));   // the left wall's, halved
+  EXPECT_FALSE(reaches(t, 7.5));   // not at full height
+  const TabbedOutline swapped = add_glue_tabs(kU, {{5, 1}, {3, 1}}, 2.5);
+  EXPECT_TRUE(reaches(swapped, 7.5));
+  EXPECT_TRUE(reaches(swapped, 7.75));
+  EXPECT_FALSE(reaches(swapped, 6.5));
+  const TabbedOutline crowded = add_glue_tabs(kU, {{3, 1}, {5, 1}}, 3.0);
   EXPECT_EQ(crowded.tabs, 1);
   EXPECT_EQ(crowded.dropped, 1);
+  EXPECT_EQ(crowded.tabbed, std::vector<bool>({true, false}));
   ASSERT_EQ(crowded.folds.size(), 1u);
   expect_points(crowded.folds[0], {{9, 20}, {9, 6}});
 }

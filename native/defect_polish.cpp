@@ -270,12 +270,13 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
   // The spreading damping holds until every |K| is below spread_until.
   double least_damping = std::max(kSmallestDamping, options.spread_damping);
   double damping = std::max(kInitialDamping, least_damping);
-  auto factor = [&]() {
+  // Factors J J^T + mu (relative to its mean diagonal) at the current J.
+  auto factor = [&](double mu) {
     const RowMatrix& J = jacobian.matrix();
     Eigen::SparseMatrix<double> normal = J * J.transpose();
     const double scale = normal.diagonal().mean();
     if (!(scale > 0.0) || !std::isfinite(scale)) return false;
-    for (Eigen::Index r = 0; r < rows; ++r) normal.coeffRef(r, r) += damping * scale;
+    for (Eigen::Index r = 0; r < rows; ++r) normal.coeffRef(r, r) += mu * scale;
     fresh = true;
     return system.compute(std::move(normal));
   };
@@ -312,11 +313,7 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
   };
   // The projection's steps (PolishOptions::pull_steps).
   for (int pull = 0; pull < options.pull_steps; ++pull) {
-    const double kept_damping = damping;
-    damping = kPullDamping;
-    const bool ok = factor();
-    damping = kept_damping;
-    if (!ok) break;
+    if (!factor(kPullDamping)) break;
     Eigen::VectorXd toward(3 * free_count);
     for (Eigen::Index v = 0; v < n; ++v)
       if (const int u = free_of[static_cast<size_t>(v)]; u >= 0)
@@ -353,7 +350,7 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
     double trial_energy = 0.0;
     while (!kept) {
       if (!factored) {
-        factored = factor();
+        factored = factor(damping);
         if (!factored) {
           damping *= kDampingUp;
           if (damping > kLargestDamping) break;

@@ -1340,7 +1340,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     // One patch whose deformation found nothing better is polished from the
     // input, and its polish has the same candidates to compete with.
     const bool deformed = improved;
-    const bool candidates = (improved || !piecewise) && scored_count <= kLeastMoveVertices;
+    const bool candidates = (deformed || !piecewise) && scored_count <= kLeastMoveVertices;
     // Least motion's candidates: polishes of the input (or of its smoothed
     // versions), damped as such, with conjugate gradients from
     // kCandidateDirectRows rows.

@@ -302,14 +302,7 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
   // corners keep their place instead, ring by ring. False if faces still
   // turn over after kRevertRounds rounds.
   const auto unfold = [&](Positions& trial) {
-    for (int round = 0;; ++round) {
-      const std::vector<Eigen::Index> turned =
-          folded_faces(face_normals(trial, triangles), reference_normals, crease_guard);
-      if (turned.empty()) return true;
-      if (round == kRevertRounds) return false;
-      for (Eigen::Index f : turned)
-        for (int c = 0; c < 3; ++c) trial.row(triangles(f, c)) = current.row(triangles(f, c));
-    }
+    return put_back_folded_corners(trial, current, triangles, reference_normals, crease_guard, kRevertRounds);
   };
   // The projection's steps (PolishOptions::pull_steps).
   for (int pull = 0; pull < options.pull_steps; ++pull) {

@@ -214,6 +214,17 @@ std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& re
   return faces;
 }
 
+bool put_back_folded_corners(Positions& positions, const Positions& fallback, const Triangles& triangles,
+                             const Normals& reference, const CreaseGuard& guard, int rounds) {
+  for (int round = 0;; ++round) {
+    const std::vector<Eigen::Index> folded = folded_faces(face_normals(positions, triangles), reference, guard);
+    if (folded.empty()) return true;
+    if (round == rounds) return false;
+    for (Eigen::Index f : folded)
+      for (int c = 0; c < 3; ++c) positions.row(triangles(f, c)) = fallback.row(triangles(f, c));
+  }
+}
+
 double normal_roughness(const Normals& normals, const Triangles& triangles, const VertexFaces& connectivity) {
   double sum = 0.0;
   Eigen::Index counted = 0;

@@ -75,6 +75,14 @@ class CreaseGuard {
 // (turned_over_faces) and those `guard` finds creased, ascending and unique.
 std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard);
 
+// Puts the corners of the folded faces of `positions` (folded_faces against
+// `reference` normals and `guard`) back where `fallback` has them, ring by
+// ring: at most `rounds` rounds, each followed by a fresh look. Returns
+// whether no face is left folded. Where `fallback` folds nothing, enough
+// rounds always succeed (each puts back at least one more vertex).
+bool put_back_folded_corners(Positions& positions, const Positions& fallback, const Triangles& triangles,
+                             const Normals& reference, const CreaseGuard& guard, int rounds);
+
 // Roughness of the normal field: the mean over the faces of the angle (rad)
 // between a face's unit normal and the normalised sum of its own and its
 // edge neighbours' normals. Noise raises it; a smooth surface's comes from

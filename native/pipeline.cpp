@@ -1483,14 +1483,10 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
           Positions projected_start = jet_denoise(positions, triangles, connectivity, pinned, unguarded);
           if (limit > 0.0) clamp_to_tolerance(projected_start, positions, limit);
           // Sliver faces the smoothing turned over keep the input's corners
-          // (each round puts back at least one vertex, so this ends).
-          for (;;) {
-            const std::vector<Eigen::Index> turned =
-                turned_over_faces(face_normals(projected_start, triangles), normals_before);
-            if (turned.empty()) break;
-            for (Eigen::Index f : turned)
-              for (int c = 0; c < 3; ++c) projected_start.row(triangles(f, c)) = positions.row(triangles(f, c));
-          }
+          // (as many rounds as it takes: the input folds nothing).
+          put_back_folded_corners(projected_start, positions, triangles, normals_before,
+                                  CreaseGuard(triangles, normals_before, {}, 0.0),
+                                  static_cast<int>(positions.rows()));
           const double projected_move = rms_move(projected_start, positions);
           if (projected_move >= kSameStartShare * least_motion.move())
             starts.push_back({std::move(projected_start), true, projected_move, {}, true});

@@ -14,6 +14,26 @@
 namespace developable {
 namespace {
 
+// A vertex dragged across its neighbours turns its faces over; putting back
+// the folded faces' corners, ring by ring, restores the plane, and with no
+// round allowed it reports faces still folded.
+TEST(Measures, PutBackFoldedCornersUnfoldsAPlane) {
+  const auto m = test::plane(7, 9);
+  const Normals reference = face_normals(m.positions, m.triangles);
+  const CreaseGuard off(m.triangles, reference, {}, 0.0);
+  Positions dragged = m.positions;
+  const Eigen::Index v = 4 * 9 + 4;  // an interior vertex
+  dragged.row(v) += Eigen::RowVector3d(1.7, 1.3, 0.0);  // several cells across
+  ASSERT_FALSE(turned_over_faces(face_normals(dragged, m.triangles), reference).empty());
+  Positions none = dragged;
+  EXPECT_FALSE(put_back_folded_corners(none, m.positions, m.triangles, reference, off, 0));
+  EXPECT_TRUE(none == dragged);
+  Positions fixed = dragged;
+  EXPECT_TRUE(put_back_folded_corners(fixed, m.positions, m.triangles, reference, off, 10));
+  EXPECT_TRUE(turned_over_faces(face_normals(fixed, m.triangles), reference).empty());
+  EXPECT_TRUE(fixed.row(v) == m.positions.row(v));
+}
+
 TEST(Measures, FlatGridHasZeroDefectEverywhere) {
   const auto m = test::plane(7, 9);
   const auto interior = interior_vertices(m.positions, m.triangles);

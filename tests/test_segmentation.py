@@ -70,6 +70,25 @@ def test_automatic_segmentation_gives_way_to_one_patch_that_is_more_developable(
     assert auto.stats["change_percent"] <= -99 and auto.stats["flat_share_after"] >= 0.95
 
 
+def test_the_one_patch_run_may_raise_the_largest_defect_a_little(library):
+    """The second opinion's one-patch run is returned when it is flatter on
+    both figures even if one vertex ends a little above the input's largest
+    |defect| (at most 5 %, as the nearly flat polish may), and the message
+    says so. A twisted cubic's tangent developable on slivers, held-out seed
+    206: split, -87 % and 74 % flat; as one patch -94 % and 93 % flat with the
+    largest |defect| 2 % above the input's."""
+    m = families.random_case("tangent_cubic", 206, triangulations=["slivers"])
+    auto = native.run(m.positions, m.triangles)
+    split = native.run(m.positions, m.triangles, params=dict(segmentation=1))
+    assert split.stats["patches"] > 1
+    assert auto.stats["patches"] == 1
+    bar = max(split.stats["max_defect_after"], auto.stats["max_defect_before"])
+    assert bar < auto.stats["max_defect_after"] <= 1.05 * bar
+    assert auto.stats["flat_share_after"] > split.stats["flat_share_after"]
+    assert auto.stats["mean_defect_after"] < split.stats["mean_defect_after"]
+    assert "largest |defect| grew" in auto.stats["result_message"]
+
+
 @pytest.mark.parametrize("seed", range(8))
 def test_an_open_pipe_elbow_comes_back_flatter(library, seed):
     """A random pipe elbow (devkit/meshes.py): its total curvature can only

@@ -5,6 +5,9 @@
             without the add-on package (which needs bpy)
   meshes    generated meshes: exact developable surfaces, noisy ones, the
             paper's models, the run command's demo meshes, benchmark families
+  families  seeded random developables of issue 11 with their noise-free twins
+  objects   seeded random closed objects (blobs, rounded boxes, tori, limbs)
+  measures  angle defects, flat share, turned faces, sharpened edges
   obj       OBJ reading and writing
   distance  point-to-triangle distance and the sampled Hausdorff distance
   machine   what a benchmark page says about the machine and the build

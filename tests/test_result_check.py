@@ -11,46 +11,13 @@ import pytest
 
 from devkit import meshes
 from devkit.binding import native
-from devkit.measures import flat_share, turned_faces
 from devkit.obj import read_obj, write_obj
+from result_support import check_honest, is_closed
 
 
 @pytest.fixture(scope="module", autouse=True)
 def _library(library):
     """Every test here runs the engine of the build under test."""
-
-
-def is_closed(triangles):
-    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
-    _, count = np.unique(edges, axis=0, return_counts=True)
-    return bool(np.all(count == 2))
-
-
-def check_honest(positions, triangles, result):
-    """What every result must satisfy, whatever the mesh."""
-    s = result.stats
-    turned = np.sum(turned_faces(positions, result.positions, triangles) < 0)
-    assert turned == 0 and s["faces_turned_over"] == 0
-    if s["mean_defect_after"] > s["mean_defect_before"]:
-        # Only a closed surface, whose total curvature cannot go (Gauss-Bonnet),
-        # may trade a little mean |defect| for flat patches, and it is said.
-        assert is_closed(triangles)
-        assert s["mean_defect_after"] <= 1.05 * s["mean_defect_before"]
-        assert "mean |defect| grew" in s["result_message"]
-    assert s["flat_share_before"] == pytest.approx(flat_share(result.defect_before, result.interior))
-    assert s["flat_share_after"] == pytest.approx(flat_share(result.defect_after, result.interior))
-    assert s["flat_share_after"] >= s["flat_share_before"]
-    if s["result"] == native.RESULT_UNCHANGED:
-        assert np.array_equal(result.positions, positions)
-        assert s["result_message"] and s["unchanged_reason"] != native.UNCHANGED_NONE
-        # Nothing of a polish that was not kept is reported (boat showed
-        # "Angle polish: 11 steps" under "Nothing changed").
-        assert s["polish_iterations"] == 0 and s["polished_from_input"] == 0
-    else:
-        assert s["result"] == native.RESULT_IMPROVED and s["unchanged_reason"] == native.UNCHANGED_NONE
-        # A gain the user sees, not rounding (the engine's kLeastGain).
-        assert s["mean_defect_after"] < (1 - 1e-6) * s["mean_defect_before"] or \
-            s["flat_share_after"] > s["flat_share_before"]
 
 
 def test_a_noisy_patch_improves_honestly():

@@ -62,8 +62,9 @@ MODE_ITEMS = [
      "the system W A^T A W is factored once", native.MODE_PAPER),
 ]
 SEGMENTATION_ITEMS = [
-    ("AUTO", "Automatic", "Split into pieces only when one ideal curve does not fit the whole "
-     "normal image; an open mesh is also tried as one piece, kept if that comes out more developable",
+    ("AUTO", "Automatic", "Split into pieces when the mesh is closed or one ideal curve does not fit "
+     "its whole normal image; an open mesh is also tried as one piece, kept if that comes out more "
+     "developable",
      -1),
     ("OFF", "One Piece", "Never split: one ideal curve for the whole mesh", 0),
     ("ON", "Always Split", "Always split the mesh into pieces by curvature (paper Fig. 1 a-b)", 1),

@@ -1633,8 +1633,10 @@ PipelineResult split_finer_if_unchanged(const MeasuredInput& input, Patches patc
   const UnchangedReason reason = automatic.stats.unchanged_reason;
   if (automatic.stats.result != ResultKind::unchanged ||
       (reason != UnchangedReason::rejected && reason != UnchangedReason::no_better_iterate &&
-       reason != UnchangedReason::no_visible_gain))
+       reason != UnchangedReason::no_visible_gain)) {
+    progress.report(1.0, "done");
     return automatic;
+  }
   PipelineOptions finer_options = input.options;
   finer_options.segmentation_options.target_patches = 2 * automatic_count;
   const Progress later = progress.sub(0.55, 1.0);

@@ -20,12 +20,9 @@ tuning seeds 0-9; faces 500-5000 log-uniform, noise 0.5-5 % AE log-uniform):
 """
 import argparse
 import json
-import os
 import pathlib
-import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 
@@ -33,24 +30,11 @@ REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from devkit import families  # noqa: E402
 from devkit.distance import sampled_hausdorff  # noqa: E402
-from devkit.obj import read_obj, write_obj  # noqa: E402
+from devkit.tool import run_tool  # noqa: E402
 
 
 angle_defects = families.angle_defects
 face_normals = families.face_normals
-
-
-def run_tool(tool, work, positions, triangles):
-    """(result positions, report stats, seconds) of the tool's defaults, or an error string."""
-    src, dst, report = work / "in.obj", work / "out.obj", work / "r.json"
-    write_obj(src, positions, triangles)
-    start = time.perf_counter()
-    run = subprocess.run([str(tool), str(src), str(dst), "--quiet", "--report", str(report)],
-                         capture_output=True, text=True)
-    seconds = time.perf_counter() - start
-    if run.returncode != 0:
-        return run.stderr.strip()[-200:]
-    return read_obj(dst)[0], json.loads(report.read_text())["stats"], seconds
 
 
 def measure(mesh, tool, work):

@@ -17,10 +17,8 @@ where the curvature gathers) and the seconds per run (median, largest).
 import argparse
 import json
 import pathlib
-import subprocess
 import sys
 import tempfile
-import time
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
@@ -30,23 +28,17 @@ sys.path.insert(0, str(REPO))
 from devkit import objects  # noqa: E402
 from devkit.distance import bbox_diagonal, sampled_hausdorff  # noqa: E402
 from devkit.measures import face_normals, sharpened_edges  # noqa: E402
-from devkit.obj import read_obj, write_obj  # noqa: E402
+from devkit.tool import run_tool  # noqa: E402
 
 
 def measure(job):
     tool, kind, seed = job
     m = objects.random_case(kind, seed)
     with tempfile.TemporaryDirectory() as work:
-        work = pathlib.Path(work)
-        write_obj(work / "in.obj", m.positions, m.triangles)
-        start = time.perf_counter()
-        run = subprocess.run([tool, str(work / "in.obj"), str(work / "out.obj"), "--quiet",
-                              "--report", str(work / "r.json")], capture_output=True, text=True)
-        seconds = time.perf_counter() - start
-        if run.returncode != 0:
-            return {"kind": kind, "seed": seed, "error": run.stderr.strip()[-200:]}
-        after = read_obj(work / "out.obj")[0]
-        stats = json.loads((work / "r.json").read_text())["stats"]
+        run = run_tool(tool, pathlib.Path(work), m.positions, m.triangles)
+    if isinstance(run, str):
+        return {"kind": kind, "seed": seed, "error": run}
+    after, stats, seconds = run
     turned = np.einsum("ij,ij->i", face_normals(m.positions, m.triangles), face_normals(after, m.triangles)) < 0
     return {"kind": kind, "seed": seed, "faces": len(m.triangles), "noise": m.noise, "seconds": seconds,
             "improved": stats["result"] == "improved", "patches": stats["patches"],

@@ -9,6 +9,7 @@
   objects   seeded random closed objects (blobs, rounded boxes, tori, limbs)
   measures  angle defects, flat share, turned faces, sharpened edges
   obj       OBJ reading and writing
+  tool      the command-line tool on arrays (write, run with --report, read back)
   distance  point-to-triangle distance and the sampled Hausdorff distance
   machine   what a benchmark page says about the machine and the build
   blender   numpy arrays -> Blender objects (only inside Blender)

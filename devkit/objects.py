@@ -150,7 +150,7 @@ def _torus(rng, faces, alternating):
 def _limb(rng, faces, alternating):
     control = np.cumsum(rng.normal(size=(5, 3)) * [1.0, 0.5, 0.5] + [1.0, 0, 0], axis=0)
     t = np.linspace(0, 1, 400)
-    # A smooth curve through the control points (Catmull-Rom would do; a cubic fit is enough).
+    # A smooth curve near the control points: their least-squares cubic.
     basis = np.vander(np.linspace(0, 1, len(control)), 4)
     coeff = np.linalg.lstsq(basis, control, rcond=None)[0]
     curve = np.vander(t, 4) @ coeff
@@ -177,7 +177,7 @@ def _limb(rng, faces, alternating):
     # Rounded caps: the radius falls as a quarter circle beyond either end.
     beyond = np.maximum(np.maximum(-s, s - 1), 0) / cap
     radius = mean_radius * wave * np.sqrt(np.clip(1 - beyond ** 2, 0, 1))
-    offset = np.sign(s - 0.5) * np.minimum(beyond, 1) * mean_radius * wave * (beyond > 0)
+    offset = np.sign(s - 0.5) * np.minimum(beyond, 1) * mean_radius * wave
     phi = np.linspace(0, 2 * np.pi, cols, endpoint=False)
     centre = curve[idx] + tangent[idx] * offset[:, None]
     ring = (np.cos(phi)[None, :, None] * normals[idx][:, None, :]

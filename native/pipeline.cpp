@@ -570,6 +570,17 @@ std::string unchanged_message(const Rejections& r, const PipelineStats& stats) {
          reasons + ". Try " + advice + ".";
 }
 
+// An unchanged run's message once the mesh split twice as finely came back
+// unchanged too (split_finer_if_unchanged): said before the advice, where
+// unchanged_message gives one.
+std::string finer_split_also_unchanged(const std::string& message, int finer_patches) {
+  const std::string patches = std::to_string(finer_patches) + " patches";
+  const size_t advice = message.find(". Try ");
+  if (advice == std::string::npos)
+    return message + " Split twice as finely (" + patches + "), it came back unchanged too.";
+  return message.substr(0, advice) + ", also when split twice as finely (" + patches + ")" + message.substr(advice);
+}
+
 // Why a mesh has no interior vertex, naming the likely cause when its
 // vertices share positions (a polygon soup).
 std::string no_interior_vertex_message(const Positions& positions) {
@@ -1628,7 +1639,6 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
 // unchanged (penguin's finer run creases its patches; see deform_patches)
 // and their messages say the finer split was tried (docs/segmentation.md).
 PipelineResult split_finer_if_unchanged(const MeasuredInput& input, Patches patches, const Progress& progress) {
-  const int automatic_count = patches.count;
   PipelineResult automatic = deform_patches(input, std::move(patches), progress.sub(0.05, 0.55));
   const UnchangedReason reason = automatic.stats.unchanged_reason;
   if (automatic.stats.result != ResultKind::unchanged ||
@@ -1638,22 +1648,14 @@ PipelineResult split_finer_if_unchanged(const MeasuredInput& input, Patches patc
     return automatic;
   }
   PipelineOptions finer_options = input.options;
-  finer_options.segmentation_options.target_patches = 2 * automatic_count;
+  finer_options.segmentation_options.target_patches = 2 * automatic.stats.patches;
   const Progress later = progress.sub(0.55, 1.0);
   Patches finer_patches = segmented_patches(input.positions, input.triangles, input.normals, input.areas,
                                             input.connectivity, finer_options, later);
-  const int finer_count = finer_patches.count;
   PipelineResult finer = deform_patches(input, std::move(finer_patches), later);
   PipelineResult& chosen = finer.stats.result == ResultKind::improved ? finer : automatic;
-  if (&chosen == &automatic) {
-    std::string& message = chosen.stats.result_message;
-    const std::string patches_text = std::to_string(finer_count) + " patches";
-    const size_t advice = message.find(". Try ");
-    if (advice != std::string::npos)
-      message.insert(advice, ", also when split twice as finely (" + patches_text + ")");
-    else
-      message += " Split twice as finely (" + patches_text + "), it came back unchanged too.";
-  }
+  if (&chosen == &automatic)
+    chosen.stats.result_message = finer_split_also_unchanged(chosen.stats.result_message, finer.stats.patches);
   chosen.stats.time_total_ms = elapsed_ms(input.start_time);
   return std::move(chosen);
 }

@@ -29,14 +29,24 @@ bl_info = {
 
 if "bpy" in locals():  # script reload (F8 / addon_utils)
     import importlib
-    for _m in (native, checks, mesh_io, properties, writeback, gauss_image, operators, panels,  # noqa: F821
-               pattern):  # noqa: F821
+
+    for _m in (
+        native,
+        checks,
+        mesh_io,
+        properties,
+        writeback,
+        gauss_image,
+        operators,
+        panels,  # noqa: F821
+        pattern,
+    ):  # noqa: F821
         importlib.reload(_m)
 
-import bpy  # noqa: E402
+import bpy
 
-from . import native, checks, mesh_io, properties, writeback, gauss_image  # noqa: E402
-from . import operators, panels, pattern  # noqa: E402
+from . import native, checks, mesh_io, properties, writeback, gauss_image
+from . import operators, panels, pattern
 
 # pattern after panels: its sub-panel's parent
 _modules = (properties, operators, panels, pattern, gauss_image)

@@ -48,8 +48,11 @@ def drop_shared_triangles(triangles, tri_polygon, polygon_vertex_sets):
         if polygon_vertex_sets(int(tri_polygon[cur])) != polygon_vertex_sets(int(tri_polygon[first])):
             keep[cur] = False
     dropped = int((~keep).sum())
-    return (np.ascontiguousarray(np.asarray(triangles)[keep]),
-            np.ascontiguousarray(np.asarray(tri_polygon)[keep]), dropped)
+    return (
+        np.ascontiguousarray(np.asarray(triangles)[keep]),
+        np.ascontiguousarray(np.asarray(tri_polygon)[keep]),
+        dropped,
+    )
 
 
 def bad_edges(triangles):
@@ -65,8 +68,7 @@ def bad_edges(triangles):
     same_dir = np.sort(directed[dcount > 1], axis=1)
     if len(many) and len(same_dir):
         n = int(max(und.max(), 0)) + 1
-        same_dir = same_dir[~np.isin(same_dir[:, 0] * n + same_dir[:, 1],
-                                     many[:, 0] * n + many[:, 1])]
+        same_dir = same_dir[~np.isin(same_dir[:, 0] * n + same_dir[:, 1], many[:, 0] * n + many[:, 1])]
     return many, np.unique(same_dir, axis=0) if len(same_dir) else same_dir
 
 
@@ -185,22 +187,30 @@ def verdict(obj_name, stats, fig):
     engine_said = stats.get("result_message", "")
     unchanged = stats.get("result") == 1 or fig["max_move"] == 0.0
     flat = "flat %.0f %% \u2192 %.0f %%" % (100 * fig["flat_before"], 100 * fig["flat_after"])
-    summary = ("%s, curvature %+.1f %%, moved at most %.2g %% of its size, %s, %.0f ms"
-               % (flat, stats["change_percent"], fig["move_percent"],
-                  plural(fig["faces_turned"], "face turned over", "faces turned over"),
-                  stats["time_total_ms"]))
+    summary = "%s, curvature %+.1f %%, moved at most %.2g %% of its size, %s, %.0f ms" % (
+        flat,
+        stats["change_percent"],
+        fig["move_percent"],
+        plural(fig["faces_turned"], "face turned over", "faces turned over"),
+        stats["time_total_ms"],
+    )
     if unchanged:
         nothing_to_do = NOTHING_TO_DO.get(stats.get("unchanged_reason"))
         if nothing_to_do:
             # Nothing got worse and nothing is left to try. The engine's words
             # have their own line in the panel.
-            return 'INFO', 'DEVELOPABLE', "%s: nothing to do, %s." % (obj_name, nothing_to_do)
+            return "INFO", "DEVELOPABLE", "%s: nothing to do, %s." % (obj_name, nothing_to_do)
         # The engine's reason after ENGINE_WORDS: the panel shows it once, on
         # its own line, and the report line keeps it.
         why = engine_said.strip() or "no better shape was found within the limits."
-        return 'WARNING', 'UNCHANGED', (
-            "%s: nothing changed. Try a larger 'Shape May Move', or the job 'Whole object into "
-            "pieces' for a closed object.%s%s" % (obj_name, ENGINE_WORDS, why))
+        return (
+            "WARNING",
+            "UNCHANGED",
+            (
+                "%s: nothing changed. Try a larger 'Shape May Move', or the job 'Whole object into "
+                "pieces' for a closed object.%s%s" % (obj_name, ENGINE_WORDS, why)
+            ),
+        )
     worse = []
     if e1 > e0 * (1.0 + 1e-9):
         worse.append("the mean curvature grew (%+.1f %%)" % stats["change_percent"])
@@ -220,16 +230,23 @@ def verdict(obj_name, stats, fig):
             # A closed surface keeps its total curvature (Gauss-Bonnet): flat
             # pieces gather it on their seams, where it no longer cancels. An
             # open one's flat vertices gave theirs to fewer others.
-            why = ("a closed surface keeps its total curvature; it gathered on the seams"
-                   if fig.get("closed", True) else
-                   "the curvature the flat vertices gave up gathered on fewer others")
+            why = (
+                "a closed surface keeps its total curvature; it gathered on the seams"
+                if fig.get("closed", True)
+                else "the curvature the flat vertices gave up gathered on fewer others"
+            )
             tips.append("setting the key to 1 if flat pieces are what you want (%s)" % why)
         elif e1 > e0 or peaked or fig["flat_after"] < fig["flat_before"]:
-            tips.append("the job 'Whole object into pieces' (a closed or doubly curved object "
-                        "cannot flatten as one piece)")
+            tips.append(
+                "the job 'Whole object into pieces' (a closed or doubly curved object " "cannot flatten as one piece)"
+            )
         engine = "%s%s" % (ENGINE_WORDS, engine_said.rstrip()) if engine_said else ""
-        return 'WARNING', 'WORSE', (
-            "%s got worse: %s. The result is kept in the shape key 'Developable' at 0 (slide it "
-            "to look). Try %s.%s [%s]" % (obj_name, "; ".join(worse), " or ".join(tips), engine,
-                                          summary))
-    return 'INFO', 'IMPROVED', "%s: %s" % (obj_name, summary)
+        return (
+            "WARNING",
+            "WORSE",
+            (
+                "%s got worse: %s. The result is kept in the shape key 'Developable' at 0 (slide it "
+                "to look). Try %s.%s [%s]" % (obj_name, "; ".join(worse), " or ".join(tips), engine, summary)
+            ),
+        )
+    return "INFO", "IMPROVED", "%s: %s" % (obj_name, summary)

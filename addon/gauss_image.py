@@ -26,9 +26,7 @@ MAX_CURVE_DOTS = 1500
 BEFORE = (0.45, 0.45, 0.45, 1.0)
 AFTER = (0.05, 0.3, 1.0, 1.0)
 CURVE = (0.05, 0.75, 0.1, 1.0)
-LEGEND = (("Before: grey dots (face normals)", BEFORE),
-          ("After: blue dots", AFTER),
-          ("Ideal curves: green", CURVE))
+LEGEND = (("Before: grey dots (face normals)", BEFORE), ("After: blue dots", AFTER), ("Ideal curves: green", CURVE))
 
 
 def collection_name(obj):
@@ -86,7 +84,7 @@ def _dot_mesh(name, rgba, radius):
     bm.to_mesh(me)
     bm.free()
     me.materials.append(_material(name + " Material", rgba))
-    colour = me.color_attributes.new("Colour", 'FLOAT_COLOR', 'POINT')
+    colour = me.color_attributes.new("Colour", "FLOAT_COLOR", "POINT")
     colour.data.foreach_set("color", np.tile(np.asarray(rgba, dtype=np.float32), len(me.vertices)))
     me.color_attributes.active_color = colour
     return me
@@ -104,7 +102,7 @@ def _new_object(coll, name, data, parent=None, rgba=None):
 
 def _dots(coll, root, name, points, rgba, radius):
     cloud = _new_object(coll, name, _points_mesh(name, points), root)
-    cloud.instance_type = 'VERTS'
+    cloud.instance_type = "VERTS"
     cloud.show_instancer_for_viewport = False
     cloud.show_instancer_for_render = False
     _new_object(coll, name + " Dot", _dot_mesh(name + " Dot", rgba, radius), cloud, rgba)
@@ -147,7 +145,7 @@ def build(obj, base_positions, deformed_positions, triangles, curves):
     size = max(float(np.ptp(corners, axis=0).max()), 1e-6)
     centre = corners.mean(axis=0)
     root = _new_object(coll, obj.name + " Gauss Image", None)
-    root.empty_display_type = 'SPHERE'
+    root.empty_display_type = "SPHERE"
     root.empty_display_size = 1.0
     root.scale = (0.35 * size,) * 3
     root.location = (corners[:, 0].max() + 0.5 * size, centre[1], centre[2])
@@ -158,11 +156,10 @@ def build(obj, base_positions, deformed_positions, triangles, curves):
     bm.to_mesh(sphere_me)
     bm.free()
     sphere = _new_object(coll, obj.name + " Gauss Sphere", sphere_me, root)
-    sphere.display_type = 'WIRE'
+    sphere.display_type = "WIRE"
     sphere.hide_render = True
 
-    for label, positions, rgba in (("Before", base_positions, BEFORE),
-                                   ("After", deformed_positions, AFTER)):
+    for label, positions, rgba in (("Before", base_positions, BEFORE), ("After", deformed_positions, AFTER)):
         normals = evenly(face_normals(positions, triangles), MAX_DOTS)
         _dots(coll, root, "%s Normals %s" % (obj.name, label), normals, rgba, DOT_RADIUS)
     points = evenly(_curve_points(curves, 1.5 * CURVE_DOT_RADIUS), MAX_CURVE_DOTS)
@@ -170,7 +167,7 @@ def build(obj, base_positions, deformed_positions, triangles, curves):
         _dots(coll, root, obj.name + " Ideal Curves", points, CURVE, CURVE_DOT_RADIUS)
 
     for i, (text, rgba) in enumerate(LEGEND):
-        font = bpy.data.curves.new("%s Gauss Legend %d" % (obj.name, i), 'FONT')
+        font = bpy.data.curves.new("%s Gauss Legend %d" % (obj.name, i), "FONT")
         font.body = text
         font.size = 0.16
         font.materials.append(_material("Gauss Legend %d" % i, rgba))
@@ -183,6 +180,7 @@ def build(obj, base_positions, deformed_positions, triangles, curves):
 
 def _vec(c):
     from mathutils import Vector
+
     return Vector(c)
 
 
@@ -215,8 +213,7 @@ _OWNER = object()
 
 def _subscribe():
     bpy.msgbus.clear_by_owner(_OWNER)
-    bpy.msgbus.subscribe_rna(key=(bpy.types.Object, "name"), owner=_OWNER, args=(),
-                             notify=follow_renames)
+    bpy.msgbus.subscribe_rna(key=(bpy.types.Object, "name"), owner=_OWNER, args=(), notify=follow_renames)
 
 
 @bpy.app.handlers.persistent

@@ -15,8 +15,8 @@ class MeshBuffers:
     """What the engine needs from one mesh, captured at one moment."""
 
     def __init__(self, positions, triangles, tri_polygon, n_polygons):
-        self.positions = positions      # (n, 3) float64
-        self.triangles = triangles      # (t, 3) int32
+        self.positions = positions  # (n, 3) float64
+        self.triangles = triangles  # (t, 3) int32
         self.tri_polygon = tri_polygon  # (t,) int32: polygon of each loop triangle
         self.n_polygons = n_polygons
 
@@ -132,6 +132,7 @@ def _weight_tree(group_name, attr_name):
 # ---------------------------------------------------------------------------
 # What the user sees: the shape key mix, in world space.
 
+
 class MeshInputError(Exception):
     """The mesh cannot be read as the user sees it; the message says why."""
 
@@ -156,7 +157,8 @@ def read_visible_positions(obj, exclude=()):
     if not keys.use_relative:
         raise MeshInputError(
             "%s uses absolute shape keys (Relative is off), whose shape depends on the "
-            "frame: tick Relative in its Shape Keys panel, or apply the keys" % obj.name)
+            "frame: tick Relative in its Shape Keys panel, or apply the keys" % obj.name
+        )
     blocks = keys.key_blocks
     reference = keys.reference_key
     ref_co = _key_co(reference)
@@ -206,8 +208,9 @@ def select_in_edit_mode(obj, vertices=(), edges=(), polygons=()):
     Toolbox shows what is wrong. Only the bad elements are visited (few); the
     rest is deselected in one call."""
     import bmesh
-    bpy.ops.object.mode_set(mode='EDIT')
-    bpy.ops.mesh.select_all(action='DESELECT')
+
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.select_all(action="DESELECT")
     bm = bmesh.from_edit_mesh(obj.data)
     bm.verts.ensure_lookup_table()
     bm.faces.ensure_lookup_table()

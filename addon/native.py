@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""ctypes binding of the developable engine (native/developable.h).
+"""ctypes binding of the developable engine (native/api/developable.h).
 
 No bpy here: this module can be imported and tested from any Python with numpy.
 
@@ -100,6 +100,7 @@ class dev_params(ctypes.Structure):
 class _ParamsBuffer(ctypes.Union):
     """dev_params with room to spare, so that a library whose struct grew
     without an ABI bump cannot write past our buffer."""
+
     _fields_ = [("params", dev_params), ("_reserve", ctypes.c_char * 512)]
 
 
@@ -221,9 +222,20 @@ class dev_pattern_seam(ctypes.Structure):
 
 
 # Pattern parameters settable through unfold(params=...), in struct order.
-PATTERN_PARAM_NAMES = ("sheet_width_mm", "sheet_height_mm", "margin_mm", "spacing_mm", "scale",
-                       "unit_mm", "seam_tolerance", "arap_iterations", "layout", "unit_name",
-                       "seam_allowance_mm", "glue_tabs_mm")
+PATTERN_PARAM_NAMES = (
+    "sheet_width_mm",
+    "sheet_height_mm",
+    "margin_mm",
+    "spacing_mm",
+    "scale",
+    "unit_mm",
+    "seam_tolerance",
+    "arap_iterations",
+    "layout",
+    "unit_name",
+    "seam_allowance_mm",
+    "glue_tabs_mm",
+)
 
 # Length of one model unit in mm, for the unit names the tool and the add-on offer.
 UNIT_MM = {"m": 1000.0, "cm": 10.0, "mm": 1.0, "in": 25.4}
@@ -288,19 +300,32 @@ def _declare(lib):
     lib.dev_default_params.argtypes = [_P(dev_params)]
     lib.dev_run.restype = ctypes.c_int32
     lib.dev_run.argtypes = [
-        _dbl_p, ctypes.c_int64, _i32_p, ctypes.c_int64, _u8_p, _P(dev_params),
-        PROGRESS_FN, ctypes.c_void_p, _P(_result_p), ctypes.c_char_p, ctypes.c_size_t,
+        _dbl_p,
+        ctypes.c_int64,
+        _i32_p,
+        ctypes.c_int64,
+        _u8_p,
+        _P(dev_params),
+        PROGRESS_FN,
+        ctypes.c_void_p,
+        _P(_result_p),
+        ctypes.c_char_p,
+        ctypes.c_size_t,
     ]
     lib.dev_validate.restype = ctypes.c_int32
-    lib.dev_validate.argtypes = [_dbl_p, ctypes.c_int64, _i32_p, ctypes.c_int64,
-                                 ctypes.c_char_p, ctypes.c_size_t]
+    lib.dev_validate.argtypes = [_dbl_p, ctypes.c_int64, _i32_p, ctypes.c_int64, ctypes.c_char_p, ctypes.c_size_t]
     lib.dev_result_free.restype = None
     lib.dev_result_free.argtypes = [_result_p]
     lib.dev_result_stats.restype = ctypes.c_int32
     lib.dev_result_stats.argtypes = [_result_p, _P(dev_stats)]
-    for name, ptr in (("dev_result_positions", _dbl_p), ("dev_result_defect_before", _dbl_p),
-                      ("dev_result_defect_after", _dbl_p), ("dev_result_interior", _u8_p),
-                      ("dev_result_target_normals", _dbl_p), ("dev_result_patch_ids", _i32_p)):
+    for name, ptr in (
+        ("dev_result_positions", _dbl_p),
+        ("dev_result_defect_before", _dbl_p),
+        ("dev_result_defect_after", _dbl_p),
+        ("dev_result_interior", _u8_p),
+        ("dev_result_target_normals", _dbl_p),
+        ("dev_result_patch_ids", _i32_p),
+    ):
         fn = getattr(lib, name)
         fn.restype = ctypes.c_int32
         fn.argtypes = [_result_p, ptr, ctypes.c_int64]
@@ -313,14 +338,27 @@ def _declare(lib):
     lib.dev_default_pattern_params.restype = None
     lib.dev_default_pattern_params.argtypes = [_P(dev_pattern_params)]
     lib.dev_unfold.restype = ctypes.c_int32
-    lib.dev_unfold.argtypes = [_dbl_p, ctypes.c_int64, _i32_p, ctypes.c_int64, _i32_p,
-                               _P(dev_pattern_params), _P(_result_p), ctypes.c_char_p, ctypes.c_size_t]
+    lib.dev_unfold.argtypes = [
+        _dbl_p,
+        ctypes.c_int64,
+        _i32_p,
+        ctypes.c_int64,
+        _i32_p,
+        _P(dev_pattern_params),
+        _P(_result_p),
+        ctypes.c_char_p,
+        ctypes.c_size_t,
+    ]
     lib.dev_pattern_free.restype = None
     lib.dev_pattern_free.argtypes = [_result_p]
     lib.dev_pattern_stats_get.restype = ctypes.c_int32
     lib.dev_pattern_stats_get.argtypes = [_result_p, _P(dev_pattern_stats)]
-    for name, ptr in (("dev_pattern_corner_uvs", _dbl_p), ("dev_pattern_sheet_uvs", _dbl_p),
-                      ("dev_pattern_piece_ids", _i32_p), ("dev_pattern_face_strain", _dbl_p)):
+    for name, ptr in (
+        ("dev_pattern_corner_uvs", _dbl_p),
+        ("dev_pattern_sheet_uvs", _dbl_p),
+        ("dev_pattern_piece_ids", _i32_p),
+        ("dev_pattern_face_strain", _dbl_p),
+    ):
         fn = getattr(lib, name)
         fn.restype = ctypes.c_int32
         fn.argtypes = [_result_p, ptr, ctypes.c_int64]
@@ -351,28 +389,33 @@ def load(force_reload=False, path=None):
             try:
                 lib = ctypes.CDLL(path)
             except OSError as exc:
-                raise LibraryError("Could not load the developable engine %s: %s. %s"
-                                   % (path, exc, _HOW_TO_FIX)) from None
+                raise LibraryError(
+                    "Could not load the developable engine %s: %s. %s" % (path, exc, _HOW_TO_FIX)
+                ) from None
             try:
                 lib.dev_abi_version.restype = ctypes.c_int32
                 abi = lib.dev_abi_version()
             except AttributeError:
-                raise LibraryError("%s is not the developable engine (no dev_abi_version). %s"
-                                   % (path, _HOW_TO_FIX)) from None
+                raise LibraryError(
+                    "%s is not the developable engine (no dev_abi_version). %s" % (path, _HOW_TO_FIX)
+                ) from None
             if abi != ABI_VERSION:
                 raise LibraryError(
                     "The developable engine %s has ABI version %d but this add-on needs %d: "
                     "install the add-on and library from the same release (rebuild the library "
-                    "or update the add-on)." % (path, abi, ABI_VERSION))
+                    "or update the add-on)." % (path, abi, ABI_VERSION)
+                )
             try:
                 _declare(lib)
             except AttributeError as exc:
-                raise LibraryError("The developable engine %s lacks a function (%s). %s"
-                                   % (path, exc, _HOW_TO_FIX)) from None
+                raise LibraryError(
+                    "The developable engine %s lacks a function (%s). %s" % (path, exc, _HOW_TO_FIX)
+                ) from None
             _library, _library_path = lib, path
             return lib
-        raise LibraryError("The developable engine library was not found; looked at: %s. %s"
-                           % ("; ".join(tried), _HOW_TO_FIX))
+        raise LibraryError(
+            "The developable engine library was not found; looked at: %s. %s" % ("; ".join(tried), _HOW_TO_FIX)
+        )
 
 
 def library_path():
@@ -428,8 +471,9 @@ def validate(positions, triangles):
     pos = _as_positions(positions)
     tri = _as_triangles(triangles)
     msg = ctypes.create_string_buffer(1024)
-    status = lib.dev_validate(pos.ctypes.data_as(_dbl_p), pos.shape[0],
-                              tri.ctypes.data_as(_i32_p), tri.shape[0], msg, len(msg))
+    status = lib.dev_validate(
+        pos.ctypes.data_as(_dbl_p), pos.shape[0], tri.ctypes.data_as(_i32_p), tri.shape[0], msg, len(msg)
+    )
     return status, msg.value.decode("utf-8", "replace")
 
 
@@ -439,13 +483,13 @@ class Result:
 
     def __init__(self):
         self.stats = {}
-        self.positions = None        # (n, 3) float64
-        self.defect_before = None    # (n,) float64
-        self.defect_after = None     # (n,) float64
-        self.interior = None         # (n,) bool
-        self.target_normals = None   # (t, 3) float64
-        self.patch_ids = None        # (t,) int32
-        self.curves = []             # list of (points (k,3) float64, patch, closed)
+        self.positions = None  # (n, 3) float64
+        self.defect_before = None  # (n,) float64
+        self.defect_after = None  # (n,) float64
+        self.interior = None  # (n,) bool
+        self.target_normals = None  # (t, 3) float64
+        self.patch_ids = None  # (t,) int32
+        self.curves = []  # list of (points (k,3) float64, patch, closed)
 
 
 def _copy_result(lib, res, n_vertices, n_triangles):
@@ -471,12 +515,13 @@ def _copy_result(lib, res, n_vertices, n_triangles):
         n_points = ctypes.c_int64(0)
         patch = ctypes.c_int32(0)
         closed = ctypes.c_int32(0)
-        _check(lib.dev_result_curve_info(res, i, ctypes.byref(n_points), ctypes.byref(patch),
-                                         ctypes.byref(closed)), "dev_result_curve_info")
+        _check(
+            lib.dev_result_curve_info(res, i, ctypes.byref(n_points), ctypes.byref(patch), ctypes.byref(closed)),
+            "dev_result_curve_info",
+        )
         pts = np.empty((n_points.value, 3), dtype=np.float64)
         if n_points.value:
-            _check(lib.dev_result_curve_points(res, i, pts.ctypes.data_as(_dbl_p), pts.size),
-                   "dev_result_curve_points")
+            _check(lib.dev_result_curve_points(res, i, pts.ctypes.data_as(_dbl_p), pts.size), "dev_result_curve_points")
         out.curves.append((pts, patch.value, bool(closed.value)))
     return out
 
@@ -522,8 +567,19 @@ def run(positions, triangles, pinned=None, params=None, progress=None):
     cb = PROGRESS_FN(_callback)  # kept alive for the duration of the call
     res = _result_p()
     msg = ctypes.create_string_buffer(1024)
-    status = lib.dev_run(pos.ctypes.data_as(_dbl_p), n, tri.ctypes.data_as(_i32_p), t,
-                         pin_ptr, ctypes.cast(ctypes.byref(p), _P(dev_params)), cb, None, ctypes.byref(res), msg, len(msg))
+    status = lib.dev_run(
+        pos.ctypes.data_as(_dbl_p),
+        n,
+        tri.ctypes.data_as(_i32_p),
+        t,
+        pin_ptr,
+        ctypes.cast(ctypes.byref(p), _P(dev_params)),
+        cb,
+        None,
+        ctypes.byref(res),
+        msg,
+        len(msg),
+    )
     message = msg.value.decode("utf-8", "replace")
     if status != STATUS_OK:
         if res.value:
@@ -561,8 +617,9 @@ class Pattern:
 def default_pattern_params():
     p = dev_pattern_params()
     load().dev_default_pattern_params(ctypes.byref(p))
-    return {name: (getattr(p, name).decode() if name == "unit_name" else getattr(p, name))
-            for name in PATTERN_PARAM_NAMES}
+    return {
+        name: (getattr(p, name).decode() if name == "unit_name" else getattr(p, name)) for name in PATTERN_PARAM_NAMES
+    }
 
 
 def _struct_dict(st):
@@ -606,8 +663,17 @@ def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None, fac
         p.face_groups = groups.ctypes.data_as(_i32_p)
     res = _result_p()
     msg = ctypes.create_string_buffer(1024)
-    status = lib.dev_unfold(pos.ctypes.data_as(_dbl_p), n, tri.ctypes.data_as(_i32_p), t, ids_ptr,
-                            ctypes.byref(p), ctypes.byref(res), msg, len(msg))
+    status = lib.dev_unfold(
+        pos.ctypes.data_as(_dbl_p),
+        n,
+        tri.ctypes.data_as(_i32_p),
+        t,
+        ids_ptr,
+        ctypes.byref(p),
+        ctypes.byref(res),
+        msg,
+        len(msg),
+    )
     if status != STATUS_OK:
         if res.value:
             lib.dev_pattern_free(res)
@@ -637,8 +703,9 @@ def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None, fac
             _check(lib.dev_pattern_seam_get(res, i, ctypes.byref(seam)), "dev_pattern_seam_get")
             d = _struct_dict(seam)
             edges = np.empty((seam.edges, 2), dtype=np.int32)
-            _check(lib.dev_pattern_seam_edges(res, i, edges.ctypes.data_as(_i32_p), edges.size),
-                   "dev_pattern_seam_edges")
+            _check(
+                lib.dev_pattern_seam_edges(res, i, edges.ctypes.data_as(_i32_p), edges.size), "dev_pattern_seam_edges"
+            )
             d["vertices"] = edges
             out.seams.append(d)
         buf = ctypes.create_string_buffer(4096)

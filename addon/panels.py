@@ -35,23 +35,22 @@ def expected_seconds(faces, settings):
     """(shortest, longest) expected run time in seconds."""
     cap = int(settings.max_iterations)
     coupled = faces * 30e-6 * (faces / 1e4) ** 0.4
-    if settings.mode == 'PAPER':
+    if settings.mode == "PAPER":
         return (coupled,) * 2
     decoupled = faces * 3e-6 * (faces / 1e5) ** 0.35
 
     def run(iterations, per_face):
         iterations = min(cap, iterations)
-        if settings.solver == 'COUPLED':
+        if settings.solver == "COUPLED":
             return iterations * (coupled + faces * per_face)
         return decoupled + iterations * faces * per_face
 
     one_patch, segmented = run(25, 0.33e-6), run(300, 0.6e-6)
-    if settings.polish != 'OFF':
+    if settings.polish != "OFF":
         one_patch, segmented = one_patch + faces * 6e-6, segmented + faces * 6e-6
-    if settings.segmentation == 'OFF':
+    if settings.segmentation == "OFF":
         return one_patch, one_patch
-    if settings.segmentation == 'ON' or (not settings.auto_target_patches
-                                         and settings.target_patches > 1):
+    if settings.segmentation == "ON" or (not settings.auto_target_patches and settings.target_patches > 1):
         return segmented, segmented
     return one_patch, segmented + (one_patch if faces <= SECOND_OPINION_FACES else 0.0)
 
@@ -67,6 +66,7 @@ def _duration_text(seconds):
 def object_size(obj):
     """Bounding-box diagonal in world space (from the 8 corners: cheap to draw)."""
     from mathutils import Vector
+
     corners = [obj.matrix_world @ Vector(c) for c in obj.bound_box]
     lo = Vector(tuple(min(c[i] for c in corners) for i in range(3)))
     hi = Vector(tuple(max(c[i] for c in corners) for i in range(3)))
@@ -77,8 +77,9 @@ def length_text(context, value):
     """A length in the scene's units (e.g. '1.2 cm'), as Blender writes them."""
     unit = context.scene.unit_settings
     try:
-        return bpy.utils.units.to_string(unit.system, 'LENGTH', value * unit.scale_length,
-                                         precision=3, split_unit=False, compatible_unit=False)
+        return bpy.utils.units.to_string(
+            unit.system, "LENGTH", value * unit.scale_length, precision=3, split_unit=False, compatible_unit=False
+        )
     except Exception:  # an unknown unit system: plain number
         return "%.3g" % value
 
@@ -133,16 +134,21 @@ def draw_main(layout, owner, context):
     if owner.limit_in_edges:
         col.label(text="Shape may move (in edges)")
         col.prop(owner, "tolerance", text="")
-        col.label(text="set in Advanced", icon='INFO')
+        col.label(text="set in Advanced", icon="INFO")
     else:
         col.label(text="Shape may move")
         col.prop(owner, "move_limit", text="", slider=True)
-        if obj is not None and obj.type == 'MESH':
+        if obj is not None and obj.type == "MESH":
             size = object_size(obj)
             if owner.move_limit > 0:
-                col.label(text="up to %s (%g %% of %s)" % (
-                    length_text(context, owner.move_limit / 100.0 * size), owner.move_limit,
-                    length_text(context, size)))
+                col.label(
+                    text="up to %s (%g %% of %s)"
+                    % (
+                        length_text(context, owner.move_limit / 100.0 * size),
+                        owner.move_limit,
+                        length_text(context, size),
+                    )
+                )
             else:
                 col.label(text="no limit")
 
@@ -151,7 +157,7 @@ def draw_pins(layout, owner, obj):
     col = layout.column(align=True)
     col.prop(owner, "pin_boundary")
     col.label(text="Pin vertex group")
-    if obj is not None and obj.type == 'MESH':
+    if obj is not None and obj.type == "MESH":
         col.prop_search(owner, "pin_group", obj, "vertex_groups", text="")
     else:
         col.prop(owner, "pin_group", text="")
@@ -170,12 +176,12 @@ def draw_advanced(layout, owner):
     col = layout.column(align=True)
     _labelled(col, owner, "mode", "Targets")
     sub = col.column(align=True)
-    sub.active = owner.mode != 'PAPER'
+    sub.active = owner.mode != "PAPER"
     _labelled(sub, owner, "solver", "Solver")
     col = layout.column(align=True)
     _labelled(col, owner, "segmentation", "Pieces")
     sub = col.column(align=True)
-    sub.active = owner.segmentation != 'OFF'
+    sub.active = owner.segmentation != "OFF"
     _automatic(sub, owner, "target_patches", "Number of pieces")
     _automatic(sub, owner, "segment_max_error", "Piece fit error")
     _labelled(sub, owner, "seams", "Seams")
@@ -184,7 +190,7 @@ def draw_advanced(layout, owner):
     _automatic(col, owner, "grid_resolution", "Curve search grid")
     _labelled(col, owner, "polish", "Angle polish")
     row = col.row()
-    row.active = owner.polish != 'OFF'  # its candidates are polishes
+    row.active = owner.polish != "OFF"  # its candidates are polishes
     row.prop(owner, "polish_smoothed_input")
     col = layout.column(align=True)
     _labelled(col, owner, "max_iterations", "Max iterations")
@@ -201,20 +207,30 @@ def draw_settings(layout, owner, context, in_redo=False):
     if in_redo:
         wm = context.window_manager
         box = layout.box()
-        box.prop(wm, "developable_show_pins", text="Pins", emboss=False,
-                 icon='TRIA_DOWN' if wm.developable_show_pins else 'TRIA_RIGHT')
+        box.prop(
+            wm,
+            "developable_show_pins",
+            text="Pins",
+            emboss=False,
+            icon="TRIA_DOWN" if wm.developable_show_pins else "TRIA_RIGHT",
+        )
         if wm.developable_show_pins:
             draw_pins(box, owner, context.active_object)
         box = layout.box()
-        box.prop(wm, "developable_show_advanced", text="Advanced", emboss=False,
-                 icon='TRIA_DOWN' if wm.developable_show_advanced else 'TRIA_RIGHT')
+        box.prop(
+            wm,
+            "developable_show_advanced",
+            text="Advanced",
+            emboss=False,
+            icon="TRIA_DOWN" if wm.developable_show_advanced else "TRIA_RIGHT",
+        )
         if wm.developable_show_advanced:
             draw_advanced(box, owner)
 
 
 class VIEW3D_PT_developable(Panel):
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
     bl_category = CATEGORY
     bl_label = "Make Developable"
 
@@ -228,45 +244,51 @@ class VIEW3D_PT_developable(Panel):
             col = layout.column(align=True)
             col.alert = True
             for i, line in enumerate(wrap(library_message(err), line_chars(context, 60))):
-                col.label(text=line, icon='ERROR' if i == 0 else 'BLANK1')
+                col.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
         settings = context.scene.developable
         draw_main(layout, settings, context)
         row = layout.row()
         row.scale_y = 1.5
         row.enabled = lib is not None
-        meshes = [o for o in context.selected_objects if o.type == 'MESH']
-        if obj is not None and obj.type == 'MESH' and obj not in meshes:
+        meshes = [o for o in context.selected_objects if o.type == "MESH"]
+        if obj is not None and obj.type == "MESH" and obj not in meshes:
             meshes.append(obj)
-        row.operator(MESH_OT_make_developable.bl_idname,
-                     text="Run on %d meshes" % len(meshes) if len(meshes) > 1 else "Run",
-                     icon='PLAY')
-        if obj is None or obj.type != 'MESH':
-            layout.label(text="Select a mesh object", icon='INFO')
-        elif context.mode not in {'OBJECT', 'EDIT_MESH'}:
-            for i, line in enumerate(wrap("Works in Object or Edit mode: leave %s mode first"
-                                          % context.mode.replace("_", " ").title(), line_chars(context, 60))):
-                layout.label(text=line, icon='INFO' if i == 0 else 'BLANK1')
-        if context.mode == 'EDIT_MESH' and settings.pin_selection:
-            layout.label(text="Selected vertices stay put", icon='PINNED')
-        if obj is not None and obj.type == 'MESH':
+        row.operator(
+            MESH_OT_make_developable.bl_idname,
+            text="Run on %d meshes" % len(meshes) if len(meshes) > 1 else "Run",
+            icon="PLAY",
+        )
+        if obj is None or obj.type != "MESH":
+            layout.label(text="Select a mesh object", icon="INFO")
+        elif context.mode not in {"OBJECT", "EDIT_MESH"}:
+            for i, line in enumerate(
+                wrap(
+                    "Works in Object or Edit mode: leave %s mode first" % context.mode.replace("_", " ").title(),
+                    line_chars(context, 60),
+                )
+            ):
+                layout.label(text=line, icon="INFO" if i == 0 else "BLANK1")
+        if context.mode == "EDIT_MESH" and settings.pin_selection:
+            layout.label(text="Selected vertices stay put", icon="PINNED")
+        if obj is not None and obj.type == "MESH":
             if obj.data.users > 1:
-                layout.label(text="Mesh shared by %d objects" % obj.data.users, icon='LINKED')
+                layout.label(text="Mesh shared by %d objects" % obj.data.users, icon="LINKED")
             # triangles the engine will see: loop triangles when Blender has them,
             # else 2 per polygon (quads); never computed here, drawing must be cheap
             faces = len(obj.data.loop_triangles) or 2 * len(obj.data.polygons)
             if faces >= LARGE_MESH_FACES:
                 shortest, longest = (_duration_text(t) for t in expected_seconds(faces, settings))
                 expected = shortest if shortest == longest else "%s to %s" % (shortest, longest)
-                layout.label(text="Large mesh: about %s" % expected, icon='TIME')
+                layout.label(text="Large mesh: about %s" % expected, icon="TIME")
 
 
 class VIEW3D_PT_developable_pins(Panel):
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
     bl_category = CATEGORY
     bl_parent_id = "VIEW3D_PT_developable"
     bl_label = "Pins"
-    bl_options = {'DEFAULT_CLOSED'}
+    bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context):
         self.layout.use_property_split = False
@@ -274,12 +296,12 @@ class VIEW3D_PT_developable_pins(Panel):
 
 
 class VIEW3D_PT_developable_parameters(Panel):
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
     bl_category = CATEGORY
     bl_parent_id = "VIEW3D_PT_developable"
     bl_label = "Advanced"
-    bl_options = {'DEFAULT_CLOSED'}
+    bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context):
         self.layout.use_property_split = False
@@ -294,11 +316,14 @@ def _pct(x):
 def draw_result(layout, context, obj):
     rec = obj.developable
     col = layout.column(align=True)
-    title, icon = {'IMPROVED': ("Improved", 'CHECKMARK'), 'WORSE': ("A figure got worse", 'ERROR'),
-                   'UNCHANGED': ("Nothing changed", 'INFO'),
-                   'DEVELOPABLE': ("Already developable", 'CHECKMARK')}[rec.verdict]
+    title, icon = {
+        "IMPROVED": ("Improved", "CHECKMARK"),
+        "WORSE": ("A figure got worse", "ERROR"),
+        "UNCHANGED": ("Nothing changed", "INFO"),
+        "DEVELOPABLE": ("Already developable", "CHECKMARK"),
+    }[rec.verdict]
     col.label(text=title, icon=icon)
-    if rec.verdict != 'IMPROVED':
+    if rec.verdict != "IMPROVED":
         box = layout.box().column(align=True)
         # The figures in brackets and the engine's words have lines of their own below.
         for line in wrap(rec.message.split(" [")[0].split(checks.ENGINE_WORDS)[0], line_chars(context, 50)):
@@ -308,15 +333,17 @@ def draw_result(layout, context, obj):
     col.label(text="Curvature: %+.1f %%" % rec.change_percent)
     col.label(text="Moved at most %.2g %% of size" % rec.move_percent)
     col.label(text="  (%s)" % length_text(context, rec.max_move))
-    col.label(text="Faces turned over: %d" % rec.faces_turned,
-              icon='ERROR' if rec.faces_turned else 'NONE')
-    col.label(text="Time: %s, %d iterations" % (
-        "%.0f ms" % rec.time_ms if rec.time_ms < 10000 else "%.1f s" % (rec.time_ms / 1000),
-        rec.iterations))
+    col.label(text="Faces turned over: %d" % rec.faces_turned, icon="ERROR" if rec.faces_turned else "NONE")
+    col.label(
+        text="Time: %s, %d iterations"
+        % ("%.0f ms" % rec.time_ms if rec.time_ms < 10000 else "%.1f s" % (rec.time_ms / 1000), rec.iterations)
+    )
     if rec.polish_iterations:
         # Short enough for the default sidebar width.
-        col.label(text=("Polished the input: %d steps" if rec.polished_from_input
-                        else "Angle polish: %d steps") % rec.polish_iterations)
+        col.label(
+            text=("Polished the input: %d steps" if rec.polished_from_input else "Angle polish: %d steps")
+            % rec.polish_iterations
+        )
         if rec.input_smoothed:
             col.label(text="  (its noise smoothed first)")
     col.label(text="Stopped: %s" % rec.stop_reason)
@@ -325,9 +352,9 @@ def draw_result(layout, context, obj):
         for i, line in enumerate(wrap("Engine check: " + rec.engine_result, line_chars(context))):
             col.label(text=line)
     if rec.world_space:
-        col.label(text="In world space (object scale)", icon='OBJECT_ORIGIN')
+        col.label(text="In world space (object scale)", icon="OBJECT_ORIGIN")
     if obj.data.users > 1:
-        col.label(text="Mesh shared with other objects", icon='LINKED')
+        col.label(text="Mesh shared with other objects", icon="LINKED")
 
     keys = obj.data.shape_keys
     kb = keys.key_blocks.get(writeback.SHAPE_KEY) if keys else None
@@ -336,27 +363,26 @@ def draw_result(layout, context, obj):
 
     col = layout.column(align=True)
     col.label(text="Curvature colours")
-    col.prop(rec, "show_after", text="After" if rec.show_after else "Before",
-             toggle=True, icon='HIDE_OFF')
+    col.prop(rec, "show_after", text="After" if rec.show_after else "Before", toggle=True, icon="HIDE_OFF")
     col.label(text="blue \u2212 / white 0 / red +")
     col.label(text="full colour at \u00b1%.3g rad" % rec.colour_scale)
     space = context.space_data
     shading = getattr(space, "shading", None) if space else None
     if shading is not None:
-        if shading.type == 'SOLID':
+        if shading.type == "SOLID":
             col.prop(shading, "color_type", text="")
-            if shading.color_type != 'VERTEX':
-                col.label(text="Pick Attribute to see them", icon='INFO')
+            if shading.color_type != "VERTEX":
+                col.label(text="Pick Attribute to see them", icon="INFO")
         else:
-            col.label(text="Colours show in Solid view", icon='INFO')
+            col.label(text="Colours show in Solid view", icon="INFO")
 
     if gauss_image.exists(obj):
         layout.prop(rec, "show_gauss_image", text="Show Gauss Image")
 
 
 class VIEW3D_PT_developable_result(Panel):
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
     bl_category = CATEGORY
     bl_parent_id = "VIEW3D_PT_developable"
     bl_label = "Last Run"
@@ -364,14 +390,17 @@ class VIEW3D_PT_developable_result(Panel):
     def draw(self, context):
         layout = self.layout
         obj = context.active_object
-        if obj is None or obj.type != 'MESH':
+        if obj is None or obj.type != "MESH":
             layout.label(text="No mesh selected")
             return
         if not obj.developable.has_result:
             keys = obj.data.shape_keys
             if keys and keys.key_blocks.get(writeback.SHAPE_KEY) and obj.data.users > 1:
-                for line in wrap("This mesh is shared: it was made developable through "
-                                 "another object, whose panel has the figures", line_chars(context)):
+                for line in wrap(
+                    "This mesh is shared: it was made developable through "
+                    "another object, whose panel has the figures",
+                    line_chars(context),
+                ):
                     layout.label(text=line)
             else:
                 layout.label(text="No run on this object yet")
@@ -379,8 +408,12 @@ class VIEW3D_PT_developable_result(Panel):
         draw_result(layout, context, obj)
 
 
-classes = (VIEW3D_PT_developable, VIEW3D_PT_developable_result, VIEW3D_PT_developable_pins,
-           VIEW3D_PT_developable_parameters)
+classes = (
+    VIEW3D_PT_developable,
+    VIEW3D_PT_developable_result,
+    VIEW3D_PT_developable_pins,
+    VIEW3D_PT_developable_parameters,
+)
 
 
 def register():

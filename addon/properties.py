@@ -9,8 +9,7 @@ Parameters whose engine value has an "automatic" sentinel (0 or -1) get an
 "Automatic" switch instead of showing the bare number."""
 
 import bpy
-from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty,
-                       PointerProperty, StringProperty)
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 from bpy.types import PropertyGroup
 
 from . import native
@@ -21,72 +20,135 @@ from . import native
 # meshes and docs/human-woman.md; see docs/addon.md.
 
 GENERAL = {
-    "move_limit": 1.0, "limit_in_edges": False, "tolerance": 10.0, "omega": 5.0,
-    "max_iterations": 400, "mode": 'REFIT', "solver": 'DECOUPLED', "pin_boundary": False,
-    "use_mls_weights": True, "stop_relative_change": 0.001, "developable_threshold": -10,
-    "segmentation": 'AUTO', "auto_target_patches": True, "auto_segment_max_error": True,
-    "seams": 'FREE', "auto_grid_resolution": True, "auto_target_smoothing": True, "polish": 'AUTO',
+    "move_limit": 1.0,
+    "limit_in_edges": False,
+    "tolerance": 10.0,
+    "omega": 5.0,
+    "max_iterations": 400,
+    "mode": "REFIT",
+    "solver": "DECOUPLED",
+    "pin_boundary": False,
+    "use_mls_weights": True,
+    "stop_relative_change": 0.001,
+    "developable_threshold": -10,
+    "segmentation": "AUTO",
+    "auto_target_patches": True,
+    "auto_segment_max_error": True,
+    "seams": "FREE",
+    "auto_grid_resolution": True,
+    "auto_target_smoothing": True,
+    "polish": "AUTO",
     "polish_smoothed_input": True,
 }
 PRESETS = {
-    'GENERAL': {},
-    'SHEET': {"segmentation": 'OFF', "move_limit": 2.0},
-    'GARMENT': {"segmentation": 'AUTO', "move_limit": 3.0},
-    'OBJECT': {"segmentation": 'ON', "move_limit": 1.0},
-    'PAPER': {"mode": 'PAPER', "solver": 'COUPLED', "limit_in_edges": True, "tolerance": 10.0,
-              "omega": 5.0, "pin_boundary": True, "seams": 'PINNED'},
-    'CUSTOM': None,  # set by hand: nothing to apply
+    "GENERAL": {},
+    "SHEET": {"segmentation": "OFF", "move_limit": 2.0},
+    "GARMENT": {"segmentation": "AUTO", "move_limit": 3.0},
+    "OBJECT": {"segmentation": "ON", "move_limit": 1.0},
+    "PAPER": {
+        "mode": "PAPER",
+        "solver": "COUPLED",
+        "limit_in_edges": True,
+        "tolerance": 10.0,
+        "omega": 5.0,
+        "pin_boundary": True,
+        "seams": "PINNED",
+    },
+    "CUSTOM": None,  # set by hand: nothing to apply
 }
 PRESET_ITEMS = [
-    ('GENERAL', "General", "Automatic choices for any mesh; the shape may move 1 % of its size"),
-    ('SHEET', "Clean up a scanned sheet", "One piece (no splitting), for a noisy scan or a "
-     "sculpted panel that should become one smooth developable sheet; moves at most 2 % of the "
-     "size"),
-    ('GARMENT', "Garment / soft piece", "A cloth-like piece that may split where it curves "
-     "both ways; moves at most 3 % of the size"),
-    ('OBJECT', "Whole object into pieces", "A closed object (a character, a toy) split into "
-     "developable pieces that meet at seams; moves at most 1 % of the size"),
-    ('PAPER', "Paper's settings", "As in the paper: fixed targets, the coupled system, the "
-     "boundary and the seams pinned, limit 10 average edge lengths (E_allow = 10 AE, \u03c9 = 5)"),
-    ('CUSTOM', "Custom", "Settings changed by hand"),
+    ("GENERAL", "General", "Automatic choices for any mesh; the shape may move 1 % of its size"),
+    (
+        "SHEET",
+        "Clean up a scanned sheet",
+        "One piece (no splitting), for a noisy scan or a "
+        "sculpted panel that should become one smooth developable sheet; moves at most 2 % of the "
+        "size",
+    ),
+    (
+        "GARMENT",
+        "Garment / soft piece",
+        "A cloth-like piece that may split where it curves " "both ways; moves at most 3 % of the size",
+    ),
+    (
+        "OBJECT",
+        "Whole object into pieces",
+        "A closed object (a character, a toy) split into "
+        "developable pieces that meet at seams; moves at most 1 % of the size",
+    ),
+    (
+        "PAPER",
+        "Paper's settings",
+        "As in the paper: fixed targets, the coupled system, the "
+        "boundary and the seams pinned, limit 10 average edge lengths (E_allow = 10 AE, \u03c9 = 5)",
+    ),
+    ("CUSTOM", "Custom", "Settings changed by hand"),
 ]
 
 # Engine fields whose sentinel means "automatic": name -> sentinel.
-AUTOMATIC = {"target_patches": 0, "segment_max_error": 0.0, "grid_resolution": 0,
-             "target_smoothing": -1}
+AUTOMATIC = {"target_patches": 0, "segment_max_error": 0.0, "grid_resolution": 0, "target_smoothing": -1}
 
 MODE_ITEMS = [
-    ("REFIT", "Refit Each Step", "Refit the ideal curve and the target normals from the deformed "
-     "mesh every iteration (more developable; default)", native.MODE_REFIT),
-    ("PAPER", "Fixed (Paper)", "As in the paper: one ideal curve and one set of target normals; "
-     "the system W A^T A W is factored once", native.MODE_PAPER),
+    (
+        "REFIT",
+        "Refit Each Step",
+        "Refit the ideal curve and the target normals from the deformed "
+        "mesh every iteration (more developable; default)",
+        native.MODE_REFIT,
+    ),
+    (
+        "PAPER",
+        "Fixed (Paper)",
+        "As in the paper: one ideal curve and one set of target normals; " "the system W A^T A W is factored once",
+        native.MODE_PAPER,
+    ),
 ]
 SEGMENTATION_ITEMS = [
-    ("AUTO", "Automatic", "Split into pieces when the mesh is closed or one ideal curve does not fit "
-     "its whole normal image; an open mesh is also tried as one piece, kept if that comes out more "
-     "developable",
-     -1),
+    (
+        "AUTO",
+        "Automatic",
+        "Split into pieces when the mesh is closed or one ideal curve does not fit "
+        "its whole normal image; an open mesh is also tried as one piece, kept if that comes out more "
+        "developable",
+        -1,
+    ),
     ("OFF", "One Piece", "Never split: one ideal curve for the whole mesh", 0),
     ("ON", "Always Split", "Always split the mesh into pieces by curvature (paper Fig. 1 a-b)", 1),
 ]
 SEAMS_ITEMS = [
-    ("FREE", "Seams Move", "One global solve; the seams between pieces move freely",
-     native.SEAMS_FREE),
-    ("PINNED", "Seams Pinned", "As in the paper: piece borders are pinned and the pieces are "
-     "deformed one by one", native.SEAMS_PINNED),
+    ("FREE", "Seams Move", "One global solve; the seams between pieces move freely", native.SEAMS_FREE),
+    (
+        "PINNED",
+        "Seams Pinned",
+        "As in the paper: piece borders are pinned and the pieces are " "deformed one by one",
+        native.SEAMS_PINNED,
+    ),
 ]
 POLISH_ITEMS = [
     ("AUTO", "Automatic", "Finish with the angle polish, except with fixed (paper) targets", -1),
-    ("ON", "On", "After the deformation, move the vertices a little so that the angles around "
-     "every vertex sum to 360 degrees (angle defect zero)", 1),
+    (
+        "ON",
+        "On",
+        "After the deformation, move the vertices a little so that the angles around "
+        "every vertex sum to 360 degrees (angle defect zero)",
+        1,
+    ),
     ("OFF", "Off", "Stop after the deformation, as in the paper", 0),
 ]
 SOLVER_ITEMS = [
-    ("DECOUPLED", "Fast", "The normal rows go to the right-hand side: one n x n matrix shared by "
-     "x, y and z, factored once (default)", native.SOLVER_DECOUPLED),
-    ("COUPLED", "Coupled (Paper)", "The paper's 11 rows per triangle (Eq. 3-4) in one 3n x 3n "
-     "system W A^T A W x = W A^T c (Eq. 7), refactored when the targets change",
-     native.SOLVER_COUPLED),
+    (
+        "DECOUPLED",
+        "Fast",
+        "The normal rows go to the right-hand side: one n x n matrix shared by " "x, y and z, factored once (default)",
+        native.SOLVER_DECOUPLED,
+    ),
+    (
+        "COUPLED",
+        "Coupled (Paper)",
+        "The paper's 11 rows per triangle (Eq. 3-4) in one 3n x 3n "
+        "system W A^T A W x = W A^T c (Eq. 7), refactored when the targets change",
+        native.SOLVER_COUPLED,
+    ),
 ]
 
 ENUM_VALUES = {
@@ -102,10 +164,10 @@ _APPLYING = [False]  # a preset (or a copy of settings) is being applied
 
 def _mark_custom(self, context):
     """A value changed by hand: the preset no longer describes the settings."""
-    if not _APPLYING[0] and self.preset != 'CUSTOM':
+    if not _APPLYING[0] and self.preset != "CUSTOM":
         _APPLYING[0] = True
         try:
-            self.preset = 'CUSTOM'
+            self.preset = "CUSTOM"
         finally:
             _APPLYING[0] = False
 
@@ -132,96 +194,179 @@ def engine_property_definitions():
     u = _mark_custom
     return {
         "omega": FloatProperty(
-            name="Flattening Strength", default=5.0, min=1e-6, soft_min=0.1, soft_max=100.0,
-            update=u, description="How hard each face is pulled towards its developable "
+            name="Flattening Strength",
+            default=5.0,
+            min=1e-6,
+            soft_min=0.1,
+            soft_max=100.0,
+            update=u,
+            description="How hard each face is pulled towards its developable "
             "direction: higher is more developable and moves the shape more (the paper's normal "
-            "weight \u03c9, Eq. 2-3)"),
+            "weight \u03c9, Eq. 2-3)",
+        ),
         "tolerance": FloatProperty(
-            name="Limit in Edge Lengths", default=10.0, min=0.0, soft_max=20.0, update=u,
+            name="Limit in Edge Lengths",
+            default=10.0,
+            min=0.0,
+            soft_max=20.0,
+            update=u,
             description="The farthest a vertex may move, in average edge lengths (the paper's "
             "E_allow in multiples of AE; Table I: 0.02 keeps the shape, 10 is nearly free; "
-            "0 = no limit). Used when 'Limit in Edge Lengths' is ticked"),
+            "0 = no limit). Used when 'Limit in Edge Lengths' is ticked",
+        ),
         "max_iterations": IntProperty(
-            name="Max Iterations", default=400, min=1, soft_max=1000, update=u,
+            name="Max Iterations",
+            default=400,
+            min=1,
+            soft_max=1000,
+            update=u,
             description="The most deformation steps (MaxIter); runs usually stop earlier, when "
-            "the result stops improving"),
+            "the result stops improving",
+        ),
         "mode": EnumProperty(
-            name="Targets", items=MODE_ITEMS, default="REFIT", update=u,
-            description="How the target directions of the faces are updated between steps"),
+            name="Targets",
+            items=MODE_ITEMS,
+            default="REFIT",
+            update=u,
+            description="How the target directions of the faces are updated between steps",
+        ),
         "pin_boundary": BoolProperty(
-            name="Pin Boundary", default=False, update=u,
+            name="Pin Boundary",
+            default=False,
+            update=u,
             description="Keep every boundary vertex where it is (position constraints, as in "
-            "the paper's Fig. 3 and 4)"),
+            "the paper's Fig. 3 and 4)",
+        ),
         "use_mls_weights": BoolProperty(
-            name="Soft Falloff Around Pins", default=True, update=u,
+            name="Soft Falloff Around Pins",
+            default=True,
+            update=u,
             description="Vertices near pins move less (the paper's moving-least-squares "
-            "weights 1/(d^2 + \u03b5^2), Eq. 5)"),
+            "weights 1/(d^2 + \u03b5^2), Eq. 5)",
+        ),
         "stop_relative_change": FloatProperty(
-            name="Stop Below Change", default=0.001, min=0.0, soft_max=1.0, precision=4,
-            subtype='PERCENTAGE', update=u,
+            name="Stop Below Change",
+            default=0.001,
+            min=0.0,
+            soft_max=1.0,
+            precision=4,
+            subtype="PERCENTAGE",
+            update=u,
             description="Stop when the mean curvature changes by less than this between two "
-            "steps (the paper's \u0394C_max = 0.001 %)"),
+            "steps (the paper's \u0394C_max = 0.001 %)",
+        ),
         "developable_threshold": IntProperty(
-            name="Flat Enough Below 10^", default=-10, min=-15, max=-1, update=u,
+            name="Flat Enough Below 10^",
+            default=-10,
+            min=-15,
+            max=-1,
+            update=u,
             description="A mesh whose mean |angle defect| is below 10 to this power (rad) "
-            "already counts as developable and is returned unchanged (default -10: 1e-10 rad)"),
+            "already counts as developable and is returned unchanged (default -10: 1e-10 rad)",
+        ),
         "segmentation": EnumProperty(
-            name="Pieces", items=SEGMENTATION_ITEMS, default="AUTO", update=u,
+            name="Pieces",
+            items=SEGMENTATION_ITEMS,
+            default="AUTO",
+            update=u,
             description="Split the mesh into pieces by curvature, each with its own ideal curve "
-            "(paper Fig. 1, Fig. 5)"),
+            "(paper Fig. 1, Fig. 5)",
+        ),
         "target_patches": IntProperty(
-            name="Number of Pieces", default=8, min=1, soft_max=64, update=u,
-            description="How many pieces to split into when not automatic"),
+            name="Number of Pieces",
+            default=8,
+            min=1,
+            soft_max=64,
+            update=u,
+            description="How many pieces to split into when not automatic",
+        ),
         "segment_max_error": FloatProperty(
-            name="Piece Fit Error", default=0.1, min=1e-4, soft_max=1.0, precision=3,
-            subtype="ANGLE", update=u,
-            description="The largest cone-fitting error allowed in one piece when not automatic"),
+            name="Piece Fit Error",
+            default=0.1,
+            min=1e-4,
+            soft_max=1.0,
+            precision=3,
+            subtype="ANGLE",
+            update=u,
+            description="The largest cone-fitting error allowed in one piece when not automatic",
+        ),
         "seams": EnumProperty(
-            name="Seams", items=SEAMS_ITEMS, default="FREE", update=u,
-            description="How the borders between pieces are treated"),
+            name="Seams",
+            items=SEAMS_ITEMS,
+            default="FREE",
+            update=u,
+            description="How the borders between pieces are treated",
+        ),
         "grid_resolution": IntProperty(
-            name="Curve Search Grid", default=64, min=8, soft_max=512, update=u,
+            name="Curve Search Grid",
+            default=64,
+            min=8,
+            soft_max=512,
+            update=u,
             description="Cells per side of the grid in which the ideal curve is searched (the "
             "radial effect field of Eq. 1) when not automatic; automatic: 2 sqrt(faces of the "
-            "piece), from 32 to 128"),
+            "piece), from 32 to 128",
+        ),
         "solver": EnumProperty(
-            name="Solver", items=SOLVER_ITEMS, default="DECOUPLED", update=u,
-            description="How the linear system is built (Fixed targets always use the coupled "
-            "system)"),
+            name="Solver",
+            items=SOLVER_ITEMS,
+            default="DECOUPLED",
+            update=u,
+            description="How the linear system is built (Fixed targets always use the coupled " "system)",
+        ),
         "target_smoothing": IntProperty(
-            name="Target Smoothing", default=1, min=0, max=100, soft_max=5, update=u,
+            name="Target Smoothing",
+            default=1,
+            min=0,
+            max=100,
+            soft_max=5,
+            update=u,
             description="Rounds of averaging each face's target direction with its neighbours' "
             "in the same piece, so that a piece curved both ways follows a smooth target instead "
             "of crumpling. Automatic: one round on a split mesh; on one piece none, then "
             "averaging along the rulings if the run stalls with much curvature left "
-            "and the angle polish is off"),
+            "and the angle polish is off",
+        ),
         "polish": EnumProperty(
-            name="Angle Polish", items=POLISH_ITEMS, default="AUTO", update=u,
+            name="Angle Polish",
+            items=POLISH_ITEMS,
+            default="AUTO",
+            update=u,
             description="Finish by driving the angle defect of every vertex inside the pieces "
-            "to zero with small moves, within the same limit (beyond the paper)"),
+            "to zero with small moves, within the same limit (beyond the paper)",
+        ),
         "polish_smoothed_input": BoolProperty(
-            name="Polish Smoothed Mesh", default=True, update=u,
+            name="Polish Smoothed Mesh",
+            default=True,
+            update=u,
             description="On meshes of up to 25000 inner vertices, also polish the mesh with its "
             "noise smoothed (each vertex put on a quadric fitted to its neighbours, creases kept) "
             "and keep that if it moved the mesh less and is as flat: a noisy scan then loses its "
             "noise, not its shape; on a one-piece sheet also the nearest developable mesh found "
-            "from the smoothed one (beyond the paper)"),
+            "from the smoothed one (beyond the paper)",
+        ),
     }
 
 
 def pin_property_definitions():
     return {
         "pin_group": StringProperty(
-            name="Pin Group", default="",
+            name="Pin Group",
+            default="",
             description="Vertex group whose vertices (weight > 0) stay where they are "
-            "(position constraints of Eq. 5-6)"),
+            "(position constraints of Eq. 5-6)",
+        ),
         "pin_selection": BoolProperty(
-            name="Pin Selection", default=True,
-            description="In Edit mode, the selected vertices stay where they are too"),
+            name="Pin Selection",
+            default=True,
+            description="In Edit mode, the selected vertices stay where they are too",
+        ),
         "gauss_image": BoolProperty(
-            name="Gauss Image", default=False,
+            name="Gauss Image",
+            default=False,
             description="After the run, build the Gauss image beside the object: a unit sphere, "
-            "the face normals before and after as dots, and the ideal curves"),
+            "the face normals before and after as dots, and the ideal curves",
+        ),
     }
 
 
@@ -230,28 +375,41 @@ def extra_property_definitions():
     u = _mark_custom
     defs = {
         "preset": EnumProperty(
-            name="Job", items=PRESET_ITEMS, default='GENERAL', update=_preset_update,
-            description="What the mesh is for: sets the settings below together"),
+            name="Job",
+            items=PRESET_ITEMS,
+            default="GENERAL",
+            update=_preset_update,
+            description="What the mesh is for: sets the settings below together",
+        ),
         "move_limit": FloatProperty(
-            name="Shape May Move", default=1.0, min=0.0, soft_min=0.1, soft_max=20.0,
-            max=100.0, precision=1, subtype='PERCENTAGE', update=u,
+            name="Shape May Move",
+            default=1.0,
+            min=0.0,
+            soft_min=0.1,
+            soft_max=20.0,
+            max=100.0,
+            precision=1,
+            subtype="PERCENTAGE",
+            update=u,
             description="How far the shape may move: the farthest any vertex may go, in % of the "
-            "object's size (its bounding-box diagonal). 0 = no limit"),
+            "object's size (its bounding-box diagonal). 0 = no limit",
+        ),
         "limit_in_edges": BoolProperty(
-            name="Limit in Edge Lengths", default=False, update=u,
-            description="Set the limit in average edge lengths (the paper's E_allow) instead of "
-            "'Shape May Move'"),
+            name="Limit in Edge Lengths",
+            default=False,
+            update=u,
+            description="Set the limit in average edge lengths (the paper's E_allow) instead of " "'Shape May Move'",
+        ),
     }
     for name in AUTOMATIC:
         defs["auto_" + name] = BoolProperty(
-            name="Automatic", default=True, update=u,
-            description="Let the engine choose (untick to set the value)")
+            name="Automatic", default=True, update=u, description="Let the engine choose (untick to set the value)"
+        )
     return defs
 
 
 def all_property_definitions():
-    return dict(engine_property_definitions(), **pin_property_definitions(),
-                **extra_property_definitions())
+    return dict(engine_property_definitions(), **pin_property_definitions(), **extra_property_definitions())
 
 
 ENGINE_PARAMETERS = tuple(engine_property_definitions().keys())
@@ -260,10 +418,8 @@ DERIVED_PARAMETERS = ("max_move",)
 PIN_PARAMETERS = tuple(pin_property_definitions().keys())
 EXTRA_PARAMETERS = tuple(extra_property_definitions().keys())
 # Copy order: the preset first (it sets the others), then everything else.
-SETTINGS = ("preset",) + ENGINE_PARAMETERS + PIN_PARAMETERS + tuple(
-    n for n in EXTRA_PARAMETERS if n != "preset")
-assert set(ENGINE_PARAMETERS + DERIVED_PARAMETERS) == set(native.PARAM_NAMES), \
-    "a dev_params field has no property"
+SETTINGS = ("preset",) + ENGINE_PARAMETERS + PIN_PARAMETERS + tuple(n for n in EXTRA_PARAMETERS if n != "preset")
+assert set(ENGINE_PARAMETERS + DERIVED_PARAMETERS) == set(native.PARAM_NAMES), "a dev_params field has no property"
 
 
 def copy_settings(source, target, names=SETTINGS):
@@ -307,7 +463,7 @@ def engine_values(owner, size=None, average_edge=None):
         if getattr(owner, "auto_" + name):
             values[name] = sentinel
     values["stop_relative_change"] = owner.stop_relative_change / 100.0
-    values["developable_threshold"] = 10.0 ** owner.developable_threshold
+    values["developable_threshold"] = 10.0**owner.developable_threshold
     values["max_move"] = 0.0 if owner.limit_in_edges else owner.move_limit / 100.0
     if not owner.limit_in_edges and size is not None and average_edge:
         values["tolerance"] = owner.move_limit / 100.0 * size / average_edge
@@ -318,91 +474,120 @@ def engine_values(owner, size=None, average_edge=None):
 # Scene settings shown by the panel (the operator reads them for every value
 # the caller did not set).
 
+
 class DEVELOPABLE_PG_settings(PropertyGroup):
     __annotations__ = all_property_definitions()
 
 
 def _show_after_update(self, context):
     from . import writeback
+
     obj = self.id_data
-    if obj is not None and obj.type == 'MESH':
+    if obj is not None and obj.type == "MESH":
         writeback.show_colours(obj, after=self.show_after)
 
 
 def _gauss_visible_update(self, context):
     from . import gauss_image
+
     gauss_image.set_visible(self.id_data, self.show_gauss_image)
 
 
 class DEVELOPABLE_PG_result(PropertyGroup):
     """The last run on this object (stored in the .blend)."""
+
     has_result: BoolProperty(name="Has Result", default=False)
-    e_before: FloatProperty(name="Mean curvature before", precision=6,
-                            description="E_before: mean |angle defect| over interior vertices (rad)")
-    e_after: FloatProperty(name="Mean curvature after", precision=6,
-                           description="E_after: mean |angle defect| after the deformation (rad)")
+    e_before: FloatProperty(
+        name="Mean curvature before",
+        precision=6,
+        description="E_before: mean |angle defect| over interior vertices (rad)",
+    )
+    e_after: FloatProperty(
+        name="Mean curvature after", precision=6, description="E_after: mean |angle defect| after the deformation (rad)"
+    )
     max_before: FloatProperty(name="Max defect before", precision=6)
     max_after: FloatProperty(name="Max defect after", precision=6)
-    change_percent: FloatProperty(name="Change %", precision=2,
-                                  description="\u0394E = 100 (E_after - E_before) / E_before")
-    flat_before: FloatProperty(name="Flat before", precision=4, subtype='FACTOR',
-                               description="Share of interior vertices with |angle defect| < "
-                               "1e-3 rad before the run")
-    flat_after: FloatProperty(name="Flat after", precision=4, subtype='FACTOR',
-                              description="The same share after the run")
-    faces_turned: IntProperty(name="Faces turned over",
-                              description="Faces whose normal turned by more than 90 degrees "
-                              "(not counting faces already turned in the input)")
-    move_percent: FloatProperty(name="Largest move %", precision=3,
-                                description="Largest distance a vertex moved, in % of the "
-                                "object's size (bounding-box diagonal, world space)")
-    size: FloatProperty(name="Size", precision=5,
-                        description="Bounding-box diagonal of the input (world space)")
+    change_percent: FloatProperty(
+        name="Change %", precision=2, description="\u0394E = 100 (E_after - E_before) / E_before"
+    )
+    flat_before: FloatProperty(
+        name="Flat before",
+        precision=4,
+        subtype="FACTOR",
+        description="Share of interior vertices with |angle defect| < " "1e-3 rad before the run",
+    )
+    flat_after: FloatProperty(
+        name="Flat after", precision=4, subtype="FACTOR", description="The same share after the run"
+    )
+    faces_turned: IntProperty(
+        name="Faces turned over",
+        description="Faces whose normal turned by more than 90 degrees "
+        "(not counting faces already turned in the input)",
+    )
+    move_percent: FloatProperty(
+        name="Largest move %",
+        precision=3,
+        description="Largest distance a vertex moved, in % of the "
+        "object's size (bounding-box diagonal, world space)",
+    )
+    size: FloatProperty(name="Size", precision=5, description="Bounding-box diagonal of the input (world space)")
     time_ms: FloatProperty(name="Time (ms)", precision=1, description="t_T: total engine time")
     time_decompose_ms: FloatProperty(name="t_D (ms)", precision=1)
     time_iterate_ms: FloatProperty(name="t_I (ms)", precision=1)
     iterations: IntProperty(name="Iterations")
-    polish_iterations: IntProperty(name="Polish steps",
-                                   description="Steps of the angle polish kept after the deformation")
+    polish_iterations: IntProperty(
+        name="Polish steps", description="Steps of the angle polish kept after the deformation"
+    )
     polished_from_input: BoolProperty(
         name="Polished the input",
         description="The result is the angle polish of the input itself: it moved the mesh less than "
-                    "the deformation did, and is as flat")
-    input_smoothed: BoolProperty(
-        name="Smoothed first",
-        description="The polished input had its noise smoothed first")
+        "the deformation did, and is as flat",
+    )
+    input_smoothed: BoolProperty(name="Smoothed first", description="The polished input had its noise smoothed first")
     stop_reason: StringProperty(name="Stopped")
-    max_move: FloatProperty(name="Largest move", precision=5,
-                            description="Largest distance a vertex moved (world units)")
+    max_move: FloatProperty(
+        name="Largest move", precision=5, description="Largest distance a vertex moved (world units)"
+    )
     average_edge: FloatProperty(name="AE", precision=5, description="Average edge length")
     max_move_ae: FloatProperty(name="Largest move / AE", precision=3)
     patches: IntProperty(name="Pieces")
     curves: IntProperty(name="Curves")
     pinned: IntProperty(name="Pinned vertices")
     verdict: EnumProperty(
-        name="Verdict", default='IMPROVED',
-        items=[('IMPROVED', "Improved", "The mesh is more developable and no figure got worse"),
-               ('WORSE', "Worse", "A figure got worse: the key is left at 0"),
-               ('UNCHANGED', "Unchanged", "Nothing changed: nothing better was found"),
-               ('DEVELOPABLE', "Already developable", "Nothing to do: the mesh was developable already")])
+        name="Verdict",
+        default="IMPROVED",
+        items=[
+            ("IMPROVED", "Improved", "The mesh is more developable and no figure got worse"),
+            ("WORSE", "Worse", "A figure got worse: the key is left at 0"),
+            ("UNCHANGED", "Unchanged", "Nothing changed: nothing better was found"),
+            ("DEVELOPABLE", "Already developable", "Nothing to do: the mesh was developable already"),
+        ],
+    )
     message: StringProperty(name="Message", description="What the run said, in words")
-    engine_result: StringProperty(name="Engine check",
-                                  description="The engine's own result check, as it is")
-    world_space: BoolProperty(name="World space", default=False,
-                              description="The object's scale was taken into account")
+    engine_result: StringProperty(name="Engine check", description="The engine's own result check, as it is")
+    world_space: BoolProperty(
+        name="World space", default=False, description="The object's scale was taken into account"
+    )
     colour_scale: FloatProperty(
-        name="Colour scale", precision=6,
-        description="Angle defect (rad) shown as full red (+) / full blue (-) in both colour "
-        "attributes; white is 0")
+        name="Colour scale",
+        precision=6,
+        description="Angle defect (rad) shown as full red (+) / full blue (-) in both colour " "attributes; white is 0",
+    )
     show_after: BoolProperty(
-        name="Show After", default=True, update=_show_after_update,
-        description="Show the defect colours after (on) or before (off) the deformation")
+        name="Show After",
+        default=True,
+        update=_show_after_update,
+        description="Show the defect colours after (on) or before (off) the deformation",
+    )
     show_gauss_image: BoolProperty(
-        name="Show Gauss Image", default=True, update=_gauss_visible_update,
-        description="Show or hide this object's Gauss image objects")
+        name="Show Gauss Image",
+        default=True,
+        update=_gauss_visible_update,
+        description="Show or hide this object's Gauss image objects",
+    )
     gauss_collection: PointerProperty(
-        name="Gauss Image", type=bpy.types.Collection,
-        description="The collection holding this object's Gauss image")
+        name="Gauss Image", type=bpy.types.Collection, description="The collection holding this object's Gauss image"
+    )
 
 
 classes = (DEVELOPABLE_PG_settings, DEVELOPABLE_PG_result)

@@ -87,7 +87,8 @@ def write_attributes(mesh, result, tri_polygon, n_polygons):
     scale = colour_scale(result.defect_before, result.defect_after, interior)
     for name, values in ((DEFECT_BEFORE, result.defect_before), (DEFECT_AFTER, result.defect_after)):
         _attribute(mesh, name, "FLOAT", "POINT").data.foreach_set(
-            "value", np.ascontiguousarray(values, dtype=np.float32))
+            "value", np.ascontiguousarray(values, dtype=np.float32)
+        )
     for name, values in ((COLOUR_BEFORE, result.defect_before), (COLOUR_AFTER, result.defect_after)):
         colours = defect_colours(values, interior, scale)
         attr = _attribute(mesh, name, "FLOAT_COLOR", "POINT")
@@ -127,14 +128,13 @@ def use_attribute_shading(context):
     if screen is None:
         return
     for area in screen.areas:
-        if area.type == 'VIEW_3D':
+        if area.type == "VIEW_3D":
             for space in area.spaces:
-                if space.type == 'VIEW_3D' and space.shading.type == 'SOLID':
-                    space.shading.color_type = 'VERTEX'
+                if space.type == "VIEW_3D" and space.shading.type == "SOLID":
+                    space.shading.color_type = "VERTEX"
 
 
-def store_stats(obj, result, scale, pinned_count, figures, verdict, message, engine_result,
-                world_space):
+def store_stats(obj, result, scale, pinned_count, figures, verdict, message, engine_result, world_space):
     s = result.stats
     rec = obj.developable
     rec.has_result = True

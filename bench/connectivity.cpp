@@ -6,7 +6,7 @@
 // every vertex's ring walked once, so both structures answer the same
 // question). Built with -DDEVELOPABLE_CONNECTIVITY_BENCH=ON.
 //   connectivity_bench [--repeats N] FACES...
-#include "mesh_connectivity.h"
+#include "core/mesh_connectivity.h"
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -59,34 +59,47 @@ int main(int argc, char** argv) {
   std::vector<int> sizes;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--repeats" && i + 1 < argc) repeats = std::atoi(argv[++i]);
-    else sizes.push_back(std::atoi(argv[i]));
+    if (arg == "--repeats" && i + 1 < argc)
+      repeats = std::atoi(argv[++i]);
+    else
+      sizes.push_back(std::atoi(argv[i]));
   }
   if (sizes.empty()) sizes = {10000, 100000, 1000000};
   for (const int faces : sizes) {
     int vertices = 0;
     const developable::Triangles t = torus(faces, vertices);
     long long engine_sum = 0, openmesh_sum = 0;
-    const double engine_ms = median_ms(repeats, [&] {
-      const developable::VertexFaces table = developable::vertex_faces(t, vertices);
-      long long sum = 0;
-      for (int v = 0; v < vertices; ++v) sum += table.count(v);
-      return sum;
-    }, engine_sum);
-    const double openmesh_ms = median_ms(repeats, [&] {
-      OpenMeshTriMesh mesh;
-      std::vector<OpenMeshTriMesh::VertexHandle> handles(static_cast<size_t>(vertices));
-      for (auto& h : handles) h = mesh.add_vertex(OpenMeshTriMesh::Point(0, 0, 0));
-      for (Eigen::Index f = 0; f < t.rows(); ++f) mesh.add_face(handles[t(f, 0)], handles[t(f, 1)], handles[t(f, 2)]);
-      long long sum = 0;
-      for (const auto v : mesh.vertices())
-        for (auto it = mesh.cvf_iter(v); it.is_valid(); ++it) ++sum;
-      return sum;
-    }, openmesh_sum);
-    std::printf("{\"faces\": %lld, \"vertices\": %d, \"structure\": \"engine vertex_faces\", \"build_ms\": %.3f, "
-                "\"faces_visited\": %lld}\n", static_cast<long long>(t.rows()), vertices, engine_ms, engine_sum);
-    std::printf("{\"faces\": %lld, \"vertices\": %d, \"structure\": \"OpenMesh TriMesh\", \"build_ms\": %.3f, "
-                "\"faces_visited\": %lld}\n", static_cast<long long>(t.rows()), vertices, openmesh_ms, openmesh_sum);
+    const double engine_ms = median_ms(
+        repeats,
+        [&] {
+          const developable::VertexFaces table = developable::vertex_faces(t, vertices);
+          long long sum = 0;
+          for (int v = 0; v < vertices; ++v) sum += table.count(v);
+          return sum;
+        },
+        engine_sum);
+    const double openmesh_ms = median_ms(
+        repeats,
+        [&] {
+          OpenMeshTriMesh mesh;
+          std::vector<OpenMeshTriMesh::VertexHandle> handles(static_cast<size_t>(vertices));
+          for (auto& h : handles) h = mesh.add_vertex(OpenMeshTriMesh::Point(0, 0, 0));
+          for (Eigen::Index f = 0; f < t.rows(); ++f)
+            mesh.add_face(handles[t(f, 0)], handles[t(f, 1)], handles[t(f, 2)]);
+          long long sum = 0;
+          for (const auto v : mesh.vertices())
+            for (auto it = mesh.cvf_iter(v); it.is_valid(); ++it) ++sum;
+          return sum;
+        },
+        openmesh_sum);
+    std::printf(
+        "{\"faces\": %lld, \"vertices\": %d, \"structure\": \"engine vertex_faces\", \"build_ms\": %.3f, "
+        "\"faces_visited\": %lld}\n",
+        static_cast<long long>(t.rows()), vertices, engine_ms, engine_sum);
+    std::printf(
+        "{\"faces\": %lld, \"vertices\": %d, \"structure\": \"OpenMesh TriMesh\", \"build_ms\": %.3f, "
+        "\"faces_visited\": %lld}\n",
+        static_cast<long long>(t.rows()), vertices, openmesh_ms, openmesh_sum);
   }
   return 0;
 }

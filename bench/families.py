@@ -28,9 +28,9 @@ import numpy as np
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-from devkit import families  # noqa: E402
-from devkit.distance import sampled_hausdorff  # noqa: E402
-from devkit.tool import run_tool  # noqa: E402
+from devkit import families
+from devkit.distance import sampled_hausdorff
+from devkit.tool import run_tool
 
 
 angle_defects = families.angle_defects
@@ -47,15 +47,25 @@ def measure(mesh, tool, work):
     d0, interior = angle_defects(mesh.positions, mesh.triangles)
     d1, _ = angle_defects(out, mesh.triangles)
     e0, e1 = np.abs(d0[interior]).mean(), np.abs(d1[interior]).mean()
-    turned = int(np.sum(np.einsum("ij,ij->i", face_normals(mesh.positions, mesh.triangles),
-                                  face_normals(out, mesh.triangles)) < 0))
+    turned = int(
+        np.sum(
+            np.einsum("ij,ij->i", face_normals(mesh.positions, mesh.triangles), face_normals(out, mesh.triangles)) < 0
+        )
+    )
     h0 = sampled_hausdorff(mesh.positions, mesh.triangles, mesh.clean, mesh.triangles)
     h1 = sampled_hausdorff(out, mesh.triangles, mesh.clean, mesh.triangles)
     h_twin = sampled_hausdorff(twin_run[0], mesh.triangles, mesh.clean, mesh.triangles)
-    return {"dE": 100.0 * (e1 - e0) / e0, "flat": float(np.mean(np.abs(d1[interior]) < 1e-3)),
-            "H_ratio": h1 / max(h0, 1e-300), "H_twin_ratio": h_twin / max(h0, 1e-300), "turned": turned,
-            "unchanged": bool(np.array_equal(out, mesh.positions)) or stats.get("result") == "unchanged",
-            "faces": len(mesh.triangles), "noise": mesh.noise, "seconds": seconds}
+    return {
+        "dE": 100.0 * (e1 - e0) / e0,
+        "flat": float(np.mean(np.abs(d1[interior]) < 1e-3)),
+        "H_ratio": h1 / max(h0, 1e-300),
+        "H_twin_ratio": h_twin / max(h0, 1e-300),
+        "turned": turned,
+        "unchanged": bool(np.array_equal(out, mesh.positions)) or stats.get("result") == "unchanged",
+        "faces": len(mesh.triangles),
+        "noise": mesh.noise,
+        "seconds": seconds,
+    }
 
 
 def rows_of(results):
@@ -70,13 +80,18 @@ def rows_of(results):
         flat = np.array([r["flat"] for r in good])
         ratio = np.array([r["H_ratio"] for r in good])
         twin = np.array([r["H_twin_ratio"] for r in good])
-        rows.append((family, triangulation,
-                     "%.1f (%.1f)" % (np.median(de), de.max()),
-                     "%.0f %% (%.0f %%)" % (100 * np.median(flat), 100 * flat.min()),
-                     "%.2f (%.2f)" % (np.median(ratio), ratio.max()),
-                     "%.2f (%.2f)" % (np.median(twin), twin.max()),
-                     "%d" % sum(r["turned"] for r in good),
-                     "%d/%d" % (sum(r["unchanged"] for r in good), len(runs))))
+        rows.append(
+            (
+                family,
+                triangulation,
+                "%.1f (%.1f)" % (np.median(de), de.max()),
+                "%.0f %% (%.0f %%)" % (100 * np.median(flat), 100 * flat.min()),
+                "%.2f (%.2f)" % (np.median(ratio), ratio.max()),
+                "%.2f (%.2f)" % (np.median(twin), twin.max()),
+                "%d" % sum(r["turned"] for r in good),
+                "%d/%d" % (sum(r["unchanged"] for r in good), len(runs)),
+            )
+        )
     return rows
 
 
@@ -87,14 +102,19 @@ def summary(results):
     largest = np.array([max(r["H_ratio"] for r in c) for c in cells])
     # Within 1.5 times the larger of the noise and what the twin itself had to move.
     forced = sum(all(r["H_ratio"] <= 1.5 * max(1.0, r["H_twin_ratio"]) for r in c) for c in cells)
-    return ("Mean log of the largest H/H0 per cell %.4f; cells whose largest H/H0 is within 1.5: %d of %d; "
-            "whose every run is within 1.5 times the larger of H0 and the twin's own move: %d of %d.\n"
-            % (np.mean(np.log(largest)), int(np.sum(largest <= 1.5)), len(cells), forced, len(cells)))
+    return (
+        "Mean log of the largest H/H0 per cell %.4f; cells whose largest H/H0 is within 1.5: %d of %d; "
+        "whose every run is within 1.5 times the larger of H0 and the twin's own move: %d of %d.\n"
+        % (np.mean(np.log(largest)), int(np.sum(largest <= 1.5)), len(cells), forced, len(cells))
+    )
 
 
 def table(rows, label):
-    lines = ["| family | triangulation | dE % median (worst) | flat median (lowest) | "
-             "H/H0 median (largest) | twin's own H/H0 | folds | unchanged |", "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| family | triangulation | dE % median (worst) | flat median (lowest) | "
+        "H/H0 median (largest) | twin's own H/H0 | folds | unchanged |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     lines += ["| " + " | ".join(r) + " |" for r in rows]
     return "**%s**\n\n" % label + "\n".join(lines) + "\n"
 
@@ -105,12 +125,18 @@ def main():
     ap.add_argument("--seeds", default="100-102", help="first-last (inclusive)")
     ap.add_argument("--families", default=",".join(families.FAMILIES))
     ap.add_argument("--triangulations", default=",".join(families.TRIANGULATIONS))
-    ap.add_argument("--faces", default="500-5000",
-                    help="first-last face count, drawn log-uniform per seed (the issue's range: 500-50000)")
+    ap.add_argument(
+        "--faces",
+        default="500-5000",
+        help="first-last face count, drawn log-uniform per seed (the issue's range: 500-50000)",
+    )
     ap.add_argument("--label", default="this build")
     ap.add_argument("--json", help="also write the raw figures here")
-    ap.add_argument("--write", help="markdown file whose block between the markers "
-                    "<!-- families:LABEL --> ... <!-- /families:LABEL --> gets the table")
+    ap.add_argument(
+        "--write",
+        help="markdown file whose block between the markers "
+        "<!-- families:LABEL --> ... <!-- /families:LABEL --> gets the table",
+    )
     args = ap.parse_args()
     first, last = (int(x) for x in args.seeds.split("-"))
     face_range = tuple(int(x) for x in args.faces.split("-"))
@@ -123,24 +149,25 @@ def main():
                     continue
                 runs = []
                 for seed in range(first, last + 1):
-                    mesh = families.random_case(family, seed, faces=face_range,
-                                                triangulations=[triangulation])
+                    mesh = families.random_case(family, seed, faces=face_range, triangulations=[triangulation])
                     runs.append(measure(mesh, args.tool, work))
                 results[(family, triangulation)] = runs
                 print(" | ".join(rows_of({(family, triangulation): runs})[0]), flush=True)
-    text = (table(rows_of(results), "%s (seeds %s, %s faces, defaults)" % (args.label, args.seeds, args.faces))
-            + "\n" + summary(results))
+    text = (
+        table(rows_of(results), "%s (seeds %s, %s faces, defaults)" % (args.label, args.seeds, args.faces))
+        + "\n"
+        + summary(results)
+    )
     print(text)
     if args.json:
-        pathlib.Path(args.json).write_text(json.dumps(
-            {"%s/%s" % k: v for k, v in results.items()}, indent=1))
+        pathlib.Path(args.json).write_text(json.dumps({"%s/%s" % k: v for k, v in results.items()}, indent=1))
     if args.write:
         path = pathlib.Path(args.write)
         old = path.read_text() if path.exists() else ""
         begin, end = "<!-- families:%s -->" % args.label, "<!-- /families:%s -->" % args.label
         block = begin + "\n" + text + end
         if begin in old and end in old:
-            new = old[:old.index(begin)] + block + old[old.index(end) + len(end):]
+            new = old[: old.index(begin)] + block + old[old.index(end) + len(end) :]
         else:
             new = old.rstrip("\n") + "\n\n" + block + "\n"
         path.write_text(new)

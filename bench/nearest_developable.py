@@ -31,8 +31,8 @@ import scipy.sparse.linalg as spl
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-from devkit import families  # noqa: E402
-from devkit.distance import sampled_hausdorff  # noqa: E402
+from devkit import families
+from devkit.distance import sampled_hausdorff
 
 EXEMPT_SHARES = (0.01, 0.02, 0.05, 0.10)
 
@@ -86,20 +86,25 @@ def measure(mesh):
 
     def outcome(x):
         defect, _ = families.angle_defects(x, triangles)
-        return (sampled_hausdorff(x, triangles, mesh.clean, triangles) / h0,
-                np.abs(defect[interior]).mean() / mean_in)
+        return (sampled_hausdorff(x, triangles, mesh.clean, triangles) / h0, np.abs(defect[interior]).mean() / mean_in)
 
     full = project(mesh.clean, triangles, rows)
     full_ratio, full_left = outcome(full)
     moved_most = rows[np.argsort(-np.linalg.norm(full - mesh.clean, axis=1)[rows], kind="stable")]
     best = (full_ratio, 0.0) if full_left <= 0.05 else (np.inf, None)
     for share in EXEMPT_SHARES:
-        kept = np.setdiff1d(rows, moved_most[:int(share * len(rows))])
+        kept = np.setdiff1d(rows, moved_most[: int(share * len(rows))])
         ratio, left = outcome(project(mesh.clean, triangles, kept))
         if left <= 0.05 and ratio < best[0]:
             best = (ratio, share)
-    return {"faces": len(triangles), "twin_left": np.abs(defect_twin[interior]).mean() / mean_in,
-            "full": full_ratio, "full_left": full_left, "best": best[0], "exempt": best[1]}
+    return {
+        "faces": len(triangles),
+        "twin_left": np.abs(defect_twin[interior]).mean() / mean_in,
+        "full": full_ratio,
+        "full_left": full_left,
+        "best": best[0],
+        "exempt": best[1],
+    }
 
 
 def main():
@@ -117,9 +122,11 @@ def main():
             mesh = families.random_case(family, seed, triangulations=[args.triangulation])
             r = measure(mesh)
             exempt = "-" if r["exempt"] is None else "%d %%" % round(100 * r["exempt"])
-            print("| %s | %d | %d | %.0f %% | %.2f (%.1f %% left) | %.2f (%s) |" % (
-                family, seed, r["faces"], 100 * r["twin_left"], r["full"], 100 * r["full_left"],
-                r["best"], exempt), flush=True)
+            print(
+                "| %s | %d | %d | %.0f %% | %.2f (%.1f %% left) | %.2f (%s) |"
+                % (family, seed, r["faces"], 100 * r["twin_left"], r["full"], 100 * r["full_left"], r["best"], exempt),
+                flush=True,
+            )
             total += 1
             within += r["best"] <= 1.5
     print("\nruns where a mesh 95 %% down within 1.5 H0 of the twin was found: %d of %d" % (within, total))

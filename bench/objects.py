@@ -25,10 +25,10 @@ import numpy as np
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
-from devkit import objects  # noqa: E402
-from devkit.distance import bbox_diagonal, sampled_hausdorff  # noqa: E402
-from devkit.measures import face_normals, sharpened_edges  # noqa: E402
-from devkit.tool import run_tool  # noqa: E402
+from devkit import objects
+from devkit.distance import bbox_diagonal, sampled_hausdorff
+from devkit.measures import face_normals, sharpened_edges
+from devkit.tool import run_tool
 
 
 def measure(job):
@@ -40,29 +40,52 @@ def measure(job):
         return {"kind": kind, "seed": seed, "error": run}
     after, stats, seconds = run
     turned = np.einsum("ij,ij->i", face_normals(m.positions, m.triangles), face_normals(after, m.triangles)) < 0
-    return {"kind": kind, "seed": seed, "faces": len(m.triangles), "noise": m.noise, "seconds": seconds,
-            "improved": stats["result"] == "improved", "patches": stats["patches"],
-            "flat_before": stats["flat_share_before"], "flat_after": stats["flat_share_after"],
-            "change": stats["change_percent"],
-            "hausdorff": sampled_hausdorff(after, m.triangles, m.positions, m.triangles) / bbox_diagonal(m.positions),
-            "turned": int(turned.sum()),
-            "folded": len(sharpened_edges(m.positions, after, m.triangles, growth_degrees=90.0 + 1e-6))}
+    return {
+        "kind": kind,
+        "seed": seed,
+        "faces": len(m.triangles),
+        "noise": m.noise,
+        "seconds": seconds,
+        "improved": stats["result"] == "improved",
+        "patches": stats["patches"],
+        "flat_before": stats["flat_share_before"],
+        "flat_after": stats["flat_share_after"],
+        "change": stats["change_percent"],
+        "hausdorff": sampled_hausdorff(after, m.triangles, m.positions, m.triangles) / bbox_diagonal(m.positions),
+        "turned": int(turned.sum()),
+        "folded": len(sharpened_edges(m.positions, after, m.triangles, growth_degrees=90.0 + 1e-6)),
+    }
 
 
 def table(results, title):
-    lines = ["**%s**" % title, "",
-             "| kind | improved | flat before → after (median) | mean \\|defect\\| % (median, largest) "
-             "| Hausdorff % diag (largest) | turned | folded edges | seconds (median, largest) |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "**%s**" % title,
+        "",
+        "| kind | improved | flat before → after (median) | mean \\|defect\\| % (median, largest) "
+        "| Hausdorff % diag (largest) | turned | folded edges | seconds (median, largest) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for kind in objects.KINDS:
         runs = [r for r in results if r["kind"] == kind and "error" not in r]
         better = [r for r in runs if r["improved"]] or runs
         med = lambda key: float(np.median([r[key] for r in better]))  # noqa: E731
-        lines.append("| %s | %d/%d | %.0f → %.0f %% | %+.1f (%+.1f) | %.2f | %d | %d | %.1f (%.1f) |" % (
-            kind, sum(r["improved"] for r in runs), len(runs), 100 * med("flat_before"), 100 * med("flat_after"),
-            med("change"), max(r["change"] for r in better), 100 * max(r["hausdorff"] for r in runs),
-            sum(r["turned"] for r in runs), sum(r["folded"] for r in runs),
-            float(np.median([r["seconds"] for r in runs])), max(r["seconds"] for r in runs)))
+        lines.append(
+            "| %s | %d/%d | %.0f → %.0f %% | %+.1f (%+.1f) | %.2f | %d | %d | %.1f (%.1f) |"
+            % (
+                kind,
+                sum(r["improved"] for r in runs),
+                len(runs),
+                100 * med("flat_before"),
+                100 * med("flat_after"),
+                med("change"),
+                max(r["change"] for r in better),
+                100 * max(r["hausdorff"] for r in runs),
+                sum(r["turned"] for r in runs),
+                sum(r["folded"] for r in runs),
+                float(np.median([r["seconds"] for r in runs])),
+                max(r["seconds"] for r in runs),
+            )
+        )
     errors = [r for r in results if "error" in r]
     if errors:
         lines += ["", "Errors: " + "; ".join("%s %d: %s" % (r["kind"], r["seed"], r["error"]) for r in errors)]

@@ -4,12 +4,12 @@
 // bench/pattern_cgal.py (needs Debian's libcgal-dev, only for this):
 //   g++ -O2 -DNDEBUG -std=c++17 -I/usr/include/eigen3 -DCGAL_EIGEN3_ENABLED \
 //       bench/pattern_cgal.cpp -o build/bin/pattern_cgal -lgmp -lmpfr
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_parameterization/ARAP_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/parameterize.h>
-#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <chrono>
 #include <fstream>
 #include <iostream>

@@ -18,8 +18,8 @@ REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 sys.path.insert(0, str(REPO / "bench"))
 
-from devkit import meshes, paths  # noqa: E402
-from pattern import band  # noqa: E402
+from devkit import meshes, paths
+from pattern import band
 
 
 def write_off(path, pos, tri):
@@ -36,18 +36,35 @@ def main():
     ap.add_argument("--build", default=str(paths.build_dir()))
     args = ap.parse_args()
     from devkit.binding import native
+
     native.os.environ[native.ENV_VAR] = str(paths.library_path(args.build))
     native.load(force_reload=True)
     binary = pathlib.Path(args.build) / "bin" / "pattern_cgal"
     if not binary.exists():
-        subprocess.run(["g++", "-O2", "-DNDEBUG", "-std=c++17", "-I/usr/include/eigen3", "-DCGAL_EIGEN3_ENABLED",
-                        str(REPO / "bench" / "pattern_cgal.cpp"), "-o", str(binary), "-lgmp", "-lmpfr"], check=True)
+        subprocess.run(
+            [
+                "g++",
+                "-O2",
+                "-DNDEBUG",
+                "-std=c++17",
+                "-I/usr/include/eigen3",
+                "-DCGAL_EIGEN3_ENABLED",
+                str(REPO / "bench" / "pattern_cgal.cpp"),
+                "-o",
+                str(binary),
+                "-lgmp",
+                "-lmpfr",
+            ],
+            check=True,
+        )
     pos, tri = meshes.noisy_cylinder_patch(seed=22)
     result = native.run(pos, tri)
-    cases = {"noisy patch after the engine": (result.positions, tri),
-             "noisy patch as it is": meshes.noisy_cylinder_patch(seed=22),
-             "sphere cap 60°": meshes.sphere_cap(60),
-             "exact curved fold 100k": band(100_000)}
+    cases = {
+        "noisy patch after the engine": (result.positions, tri),
+        "noisy patch as it is": meshes.noisy_cylinder_patch(seed=22),
+        "sphere cap 60°": meshes.sphere_cap(60),
+        "exact curved fold 100k": band(100_000),
+    }
     with tempfile.TemporaryDirectory() as tmp:
         off = pathlib.Path(tmp) / "m.off"
         for name, (p, t) in cases.items():
@@ -56,9 +73,17 @@ def main():
             ours = native.unfold(p, t, params={"layout": 0, "seam_tolerance": 0})
             seconds = time.perf_counter() - start
             cgal = subprocess.run([str(binary), str(off)], capture_output=True, text=True, check=True).stdout
-            print("| %s | %d | ours: max %.2e mean %.2e %.3f s | %s |" % (
-                name, len(t), ours.stats["max_strain"], ours.stats["mean_strain"], seconds,
-                cgal.strip().replace("\n", " | ")))
+            print(
+                "| %s | %d | ours: max %.2e mean %.2e %.3f s | %s |"
+                % (
+                    name,
+                    len(t),
+                    ours.stats["max_strain"],
+                    ours.stats["mean_strain"],
+                    seconds,
+                    cgal.strip().replace("\n", " | "),
+                )
+            )
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@ import tempfile
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
-# Stage functions of native/pipeline.cpp (inclusive cost = the stage), in
+# Stage functions of native/pipeline/ (inclusive cost = the stage), in
 # pipeline order. Matched against the demangled name without arguments.
 STAGES = [
     ("read + write mesh file (tool)", ["developable_tool::read_raw_mesh", "developable_tool::write_mesh"]),
@@ -29,7 +29,10 @@ STAGES = [
     ("angle defects", ["developable::angle_defects"]),
     ("face normals + areas", ["developable::face_normals", "developable::face_areas"]),
     ("tolerance clamp", ["developable::clamp_to_tolerance", "developable::(anonymous namespace)::clamp_to_tolerance"]),
-    ("auto-segmentation check", ["developable::(anonymous namespace)::curve_fit_error", "developable::curve_fit_error"]),
+    (
+        "auto-segmentation check",
+        ["developable::(anonymous namespace)::curve_fit_error", "developable::curve_fit_error"],
+    ),
 ]
 
 # Threads started inside a stage, by a function name in the thread's type.
@@ -52,10 +55,25 @@ PROFILE_FLAGS = "-g -fno-inline-functions -fno-inline-functions-called-once -fno
 
 def build(build_dir):
     """Release build for profiling (see PROFILE_FLAGS)."""
-    subprocess.run(["cmake", "-S", str(REPO), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release",
-                    "-DCMAKE_CXX_FLAGS=" + PROFILE_FLAGS], check=True, stdout=subprocess.DEVNULL)
-    subprocess.run(["cmake", "--build", str(build_dir), "-j2", "--target", "developable_tool"],
-                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run(
+        [
+            "cmake",
+            "-S",
+            str(REPO),
+            "-B",
+            str(build_dir),
+            "-DCMAKE_BUILD_TYPE=Release",
+            "-DCMAKE_CXX_FLAGS=" + PROFILE_FLAGS,
+        ],
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
+    subprocess.run(
+        ["cmake", "--build", str(build_dir), "-j2", "--target", "developable_tool"],
+        check=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     return build_dir / "bin" / "developable"
 
 
@@ -73,9 +91,18 @@ def _bare(name):
 
 
 def annotate(out_file, inclusive):
-    text = subprocess.run(["callgrind_annotate", "--threshold=100", "--auto=no",
-                           "--inclusive=" + ("yes" if inclusive else "no"), str(out_file)],
-                          check=True, capture_output=True, text=True).stdout
+    text = subprocess.run(
+        [
+            "callgrind_annotate",
+            "--threshold=100",
+            "--auto=no",
+            "--inclusive=" + ("yes" if inclusive else "no"),
+            str(out_file),
+        ],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
     total, costs = None, collections.Counter()
     for line in text.splitlines():
         if "PROGRAM TOTALS" in line:
@@ -97,10 +124,21 @@ def profile(tool, mesh_obj, extra_args=()):
     'self': [(function, Ir)] top exclusive}."""
     with tempfile.TemporaryDirectory(prefix="bench-callgrind-") as tmp:
         out_file = pathlib.Path(tmp) / "callgrind.out"
-        subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + str(out_file),
-                        str(tool), str(mesh_obj), str(pathlib.Path(tmp) / "out.obj"), "--quiet",
-                        *extra_args], check=True, stdout=subprocess.DEVNULL,
-                       stderr=subprocess.DEVNULL)
+        subprocess.run(
+            [
+                "valgrind",
+                "--tool=callgrind",
+                "--callgrind-out-file=" + str(out_file),
+                str(tool),
+                str(mesh_obj),
+                str(pathlib.Path(tmp) / "out.obj"),
+                "--quiet",
+                *extra_args,
+            ],
+            check=True,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
         return summarize(out_file)
 
 
@@ -122,5 +160,4 @@ def summarize(out_file):
             stages.append((title, cost))
     stages += list(extra.items())
     pipeline = incl.get("developable::run_pipeline", 0) + sum(threads.values())
-    return {"total": total, "pipeline": pipeline, "stages": stages,
-            "self": excl.most_common(12)}
+    return {"total": total, "pipeline": pipeline, "stages": stages, "self": excl.most_common(12)}

@@ -22,11 +22,11 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # devkit
-from devkit.blender import workbench_scene  # noqa: E402
+from devkit.blender import workbench_scene
 
 SIZE = 800
-LOW, HIGH = 1e-4, 1e-1          # rad: the ends of the log colour scale
-BOUNDARY = (0.55, 0.55, 0.55)   # the add-on's colour where the defect is undefined
+LOW, HIGH = 1e-4, 1e-1  # rad: the ends of the log colour scale
+BOUNDARY = (0.55, 0.55, 0.55)  # the add-on's colour where the defect is undefined
 BACKGROUND = (0.05, 0.05, 0.06)
 
 
@@ -98,7 +98,7 @@ def make_mesh(name, positions, triangles, corner_rgb):
     me.validate()
     rgba = np.ones((3 * m, 4), dtype=np.float32)
     rgba[:, :3] = corner_rgb
-    attr = me.color_attributes.new(name="Colour", type='FLOAT_COLOR', domain='CORNER')
+    attr = me.color_attributes.new(name="Colour", type="FLOAT_COLOR", domain="CORNER")
     attr.data.foreach_set("color", rgba.reshape(-1))
     me.color_attributes.active_color = attr
     if hasattr(me.color_attributes, "render_color_index"):
@@ -108,21 +108,21 @@ def make_mesh(name, positions, triangles, corner_rgb):
     return ob
 
 
-def text_mesh(body, location, size, rgb, align='LEFT'):
+def text_mesh(body, location, size, rgb, align="LEFT"):
     """A text converted to a flat mesh facing +Z, coloured through a colour
     attribute so that Workbench's attribute colouring shows it."""
-    curve = bpy.data.curves.new("label", 'FONT')
+    curve = bpy.data.curves.new("label", "FONT")
     curve.body = body
     curve.size = size
     curve.align_x = align
-    curve.align_y = 'CENTER'
+    curve.align_y = "CENTER"
     tmp = bpy.data.objects.new("label", curve)
     bpy.context.scene.collection.objects.link(tmp)
     depsgraph = bpy.context.evaluated_depsgraph_get()
     me = bpy.data.meshes.new_from_object(tmp.evaluated_get(depsgraph))
     bpy.data.objects.remove(tmp, do_unlink=True)
     bpy.data.curves.remove(curve)
-    attr = me.color_attributes.new(name="Colour", type='FLOAT_COLOR', domain='CORNER')
+    attr = me.color_attributes.new(name="Colour", type="FLOAT_COLOR", domain="CORNER")
     rgba = np.tile(np.array(list(rgb) + [1.0], dtype=np.float32), len(me.loops))
     attr.data.foreach_set("color", rgba)
     me.color_attributes.active_color = attr
@@ -136,8 +136,12 @@ def colour_bar(x0, y0, width, height, z):
     """A horizontal strip with the defect colour scale: blue (negative) on the
     left, white in the middle, red (positive) on the right."""
     steps = 60
-    d = np.concatenate([-np.logspace(np.log10(HIGH), np.log10(LOW), steps // 2),
-                        np.logspace(np.log10(LOW), np.log10(HIGH), steps // 2)])
+    d = np.concatenate(
+        [
+            -np.logspace(np.log10(HIGH), np.log10(LOW), steps // 2),
+            np.logspace(np.log10(LOW), np.log10(HIGH), steps // 2),
+        ]
+    )
     rgb = defect_colours(d, np.ones(steps, dtype=bool))
     xs = x0 + width * np.arange(steps + 1) / steps
     verts = np.array([(x, y, z) for x in xs for y in (y0, y0 + height)])
@@ -155,13 +159,13 @@ def setup_scene(centre, span, front_z):
     workbench_scene(scene, SIZE, SIZE, BACKGROUND)
     scene.render.image_settings.compression = 100
     cam_data = bpy.data.cameras.new("camera")
-    cam_data.type = 'ORTHO'
+    cam_data.type = "ORTHO"
     cam_data.ortho_scale = span
     cam_data.clip_start = 0.01
     cam_data.clip_end = 100.0
     cam = bpy.data.objects.new("camera", cam_data)
     cam.location = (centre[0], centre[1], front_z + 5.0)
-    cam.rotation_euler = (0.0, 0.0, 0.0)   # looks along -Z, up +Y
+    cam.rotation_euler = (0.0, 0.0, 0.0)  # looks along -Z, up +Y
     scene.collection.objects.link(cam)
     scene.camera = cam
 
@@ -173,7 +177,7 @@ def render(path):
 
 
 def main():
-    argv = sys.argv[sys.argv.index("--") + 1:]
+    argv = sys.argv[sys.argv.index("--") + 1 :]
     data = np.load(argv[0])
     out = argv[1]
     positions, triangles = data["positions"], data["triangles"]
@@ -193,8 +197,7 @@ def main():
     # (a) patches
     setup_scene(centre, span, front)
     rgb = patch_colours(triangles, patch_ids)
-    make_mesh("patches", positions, triangles,
-              np.repeat(srgb_to_linear(rgb[patch_ids]), 3, axis=0))
+    make_mesh("patches", positions, triangles, np.repeat(srgb_to_linear(rgb[patch_ids]), 3, axis=0))
     tri = positions[triangles]
     normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area = np.linalg.norm(normal, axis=1) / 2
@@ -216,63 +219,75 @@ def main():
             crowded = any(np.linalg.norm(at[:2] - q) < 2.2 * small for q in placed)
             if not hidden and not crowded:
                 placed.append(at[:2])
-                text_mesh(str(p), (at[0], at[1], front), small * 1.3, (0.0, 0.0, 0.0),
-                          align='CENTER')
+                text_mesh(str(p), (at[0], at[1], front), small * 1.3, (0.0, 0.0, 0.0), align="CENTER")
                 break
-    text_mesh("%d patches (front view)" % (int(patch_ids.max()) + 1),
-              (left + small, top - 1.5 * small, front), small * 1.6, white)
+    text_mesh(
+        "%d patches (front view)" % (int(patch_ids.max()) + 1),
+        (left + small, top - 1.5 * small, front),
+        small * 1.6,
+        white,
+    )
     render(os.path.join(out, "human-woman-patches.png"))
 
     # (b, c) |angle defect| before and after, one scale
-    for label, shape, defect in (("before", positions, data["defect_before"]),
-                                 ("after", after, data["defect_after"])):
+    for label, shape, defect in (("before", positions, data["defect_before"]), ("after", after, data["defect_after"])):
         setup_scene(centre, span, front)
-        make_mesh("defect " + label, shape, triangles,
-                  defect_colours(defect, interior)[triangles.reshape(-1)])
+        make_mesh("defect " + label, shape, triangles, defect_colours(defect, interior)[triangles.reshape(-1)])
         flat = np.mean(np.abs(defect[interior]) < 1e-3)
-        text_mesh("Angle defect %s\nmean |defect| %.2e rad\n|defect| < 1e-3 rad: %.0f %%"
-                  % (label, np.abs(defect[interior]).mean(), 100 * flat),
-                  (left + small, top - 3 * small, front), small * 1.5, white)
+        text_mesh(
+            "Angle defect %s\nmean |defect| %.2e rad\n|defect| < 1e-3 rad: %.0f %%"
+            % (label, np.abs(defect[interior]).mean(), 100 * flat),
+            (left + small, top - 3 * small, front),
+            small * 1.5,
+            white,
+        )
         width, height = span * 0.30, small * 1.2
         x0, y0 = left + 3 * small, bottom + 3.5 * small
-        xs = colour_bar(x0, y0, width, height, front)
-        ticks = [(-1e-1, "-1e-1"), (-1e-2, "-1e-2"), (-1e-3, "-1e-3"), (0, "±1e-4"),
-                 (1e-3, "1e-3"), (1e-2, "1e-2"), (1e-1, "1e-1")]
+        colour_bar(x0, y0, width, height, front)
+        ticks = [
+            (-1e-1, "-1e-1"),
+            (-1e-2, "-1e-2"),
+            (-1e-3, "-1e-3"),
+            (0, "±1e-4"),
+            (1e-3, "1e-3"),
+            (1e-2, "1e-2"),
+            (1e-1, "1e-1"),
+        ]
         for value, name in ticks:
             if value == 0:
                 x = x0 + width / 2
             else:
                 u = np.log10(abs(value) / LOW) / np.log10(HIGH / LOW)
                 x = x0 + width / 2 * (1 + np.sign(value) * u)
-            text_mesh("|", (x, y0 - 0.5 * small, front), small * 0.8, white, align='CENTER')
-            text_mesh(name, (x, y0 - 1.5 * small, front), small * 0.85, white, align='CENTER')
-        text_mesh("angle defect (rad), log scale",
-                  (x0, y0 + height + 1.1 * small, front), small * 1.05, white)
+            text_mesh("|", (x, y0 - 0.5 * small, front), small * 0.8, white, align="CENTER")
+            text_mesh(name, (x, y0 - 1.5 * small, front), small * 0.85, white, align="CENTER")
+        text_mesh("angle defect (rad), log scale", (x0, y0 + height + 1.1 * small, front), small * 1.05, white)
         render(os.path.join(out, "human-woman-defect-%s.png" % label))
 
     # (d) close-ups of the head and of the left hand (on the +x side), before and after
     cell = 0.32
     setup_scene((0.0, 0.0), 2 * cell, 0.5)
-    regions = (("head", (positions[:, 1] > 1.40) & (np.abs(positions[:, 0]) < 0.13)),
-               ("hand", positions[:, 0] > 0.60))
+    regions = (("head", (positions[:, 1] > 1.40) & (np.abs(positions[:, 0]) < 0.13)), ("hand", positions[:, 0] > 0.60))
     for row, (name, keep) in enumerate(regions):
         faces = np.nonzero(keep[triangles].all(axis=1))[0]
         used = np.unique(triangles[faces])
         box = (positions[used].min(axis=0) + positions[used].max(axis=0)) / 2
         for column, (label, shape, defect) in enumerate(
-                (("before", positions, data["defect_before"]),
-                 ("after", after, data["defect_after"]))):
+            (("before", positions, data["defect_before"]), ("after", after, data["defect_after"]))
+        ):
             centre_xy = np.array([(column - 0.5) * cell, (0.5 - row) * cell])
             offset = np.array([centre_xy[0] - box[0], centre_xy[1] - box[1], -box[2]])
             remap = np.full(len(shape), -1)
             remap[used] = np.arange(len(used))
             sub = remap[triangles[faces]]
             colours = defect_colours(defect, interior)[used]
-            make_mesh("%s %s" % (name, label), shape[used] + offset, sub,
-                      colours[sub.reshape(-1)])
-            text_mesh("%s, %s" % (name, label),
-                      (centre_xy[0] - 0.47 * cell, centre_xy[1] + 0.44 * cell, 0.5),
-                      cell * 0.045, white)
+            make_mesh("%s %s" % (name, label), shape[used] + offset, sub, colours[sub.reshape(-1)])
+            text_mesh(
+                "%s, %s" % (name, label),
+                (centre_xy[0] - 0.47 * cell, centre_xy[1] + 0.44 * cell, 0.5),
+                cell * 0.045,
+                white,
+            )
     render(os.path.join(out, "human-woman-closeup.png"))
 
 

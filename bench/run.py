@@ -25,11 +25,12 @@ REPO = HERE.parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(REPO))  # devkit
 
-import report  # noqa: E402
-from devkit import meshes  # noqa: E402
-from devkit.machine import load_average, machine_info  # noqa: E402
-from devkit.obj import write_obj  # noqa: E402
-from devkit.paths import MESHES as SHARED  # noqa: E402
+import report
+from devkit import meshes
+from devkit.machine import load_average, machine_info
+from devkit.obj import write_obj
+from devkit.paths import MESHES as SHARED
+
 SIZES = [1_000, 10_000, 100_000, 1_000_000]
 FAMILIES = ["cylinder", "cone", "gcone"]
 E_ALLOW = [0.02, 0.33, 10.0]
@@ -77,11 +78,17 @@ def plan(args):
             combos = [(0.02, 15.0), (10.0, 5.0)] if name == "curved_cone" else [(0.33, 5.0), (10.0, 5.0)]
         for mode in ("paper", "refit"):
             for e_allow, omega in combos:
-                add("paper_tables", title, {"named": name},
-                    {"mode": mode, "tolerance": e_allow, "max_move": 0.0, "omega": omega,
-                     "pin_boundary": 1},
-                    table=name, e_allow=e_allow, omega=omega, mode=mode,
-                    repeat=target_repeat(args) if (name, mode, e_allow, omega) == PINNED_CONE else args.repeat)
+                add(
+                    "paper_tables",
+                    title,
+                    {"named": name},
+                    {"mode": mode, "tolerance": e_allow, "max_move": 0.0, "omega": omega, "pin_boundary": 1},
+                    table=name,
+                    e_allow=e_allow,
+                    omega=omega,
+                    mode=mode,
+                    repeat=target_repeat(args) if (name, mode, e_allow, omega) == PINNED_CONE else args.repeat,
+                )
     # The paper's two models with the defaults (the < 50 ms target), then the real meshes.
     for name, title in (("curved_cone", "curved cone"), ("skirt", "skirt")):
         add("real", title, {"named": name}, repeat=target_repeat(args))
@@ -90,8 +97,14 @@ def plan(args):
     # Generated meshes of growing size, defaults (1M last: the slowest).
     for faces in sizes:
         for family in families:
-            add("scaling", "%s %s" % (family, faces), {"family": family, "faces": faces},
-                family=family, target_faces=faces, repeat=args.repeat if faces <= 20_000 else 1)
+            add(
+                "scaling",
+                "%s %s" % (family, faces),
+                {"family": family, "faces": faces},
+                family=family,
+                target_faces=faces,
+                repeat=args.repeat if faces <= 20_000 else 1,
+            )
     # Modes and segmentation: the curved cone, the skirt, the real meshes and the 10k meshes.
     mode_meshes = [("curved cone", {"named": "curved_cone"})]
     if not args.quick:
@@ -99,8 +112,12 @@ def plan(args):
     mode_meshes += [(n[:-4], {"file": str(SHARED / n)}) for n in shared]
     if not args.quick:
         mode_meshes += [("%s 10000" % f, {"family": f, "faces": 10_000}) for f in families]
-    variants = [("refit, seg auto", {}), ("paper, seg auto", {"mode": "paper"}),
-                ("refit, seg on", {"segmentation": 1}), ("refit, seg off", {"segmentation": 0})]
+    variants = [
+        ("refit, seg auto", {}),
+        ("paper, seg auto", {"mode": "paper"}),
+        ("refit, seg on", {"segmentation": 1}),
+        ("refit, seg off", {"segmentation": 0}),
+    ]
     for label, mesh in mode_meshes:
         for variant, params in variants:
             add("modes", label, mesh, params, variant=variant)
@@ -109,8 +126,12 @@ def plan(args):
         if not args.quick:
             compare_meshes.append(("skirt", {"named": "skirt"}))
         compare_meshes += [(n[:-4], {"file": str(SHARED / n)}) for n in shared]
-        compare_meshes += [("%s %s" % (f, s), {"family": f, "faces": s}) for s in sizes
-                           for f in families if s <= args.compare_max_faces]
+        compare_meshes += [
+            ("%s %s" % (f, s), {"family": f, "faces": s})
+            for s in sizes
+            for f in families
+            if s <= args.compare_max_faces
+        ]
         for label, mesh in compare_meshes:
             add("compare", label, mesh, compare=args.compare)
     return cases
@@ -130,8 +151,12 @@ def run_case(case, library, timeout):
     for _ in range(repeat):
         t0 = time.perf_counter()
         try:
-            proc = subprocess.run([sys.executable, str(HERE / "worker.py"), json.dumps(job)],
-                                  capture_output=True, text=True, timeout=timeout)
+            proc = subprocess.run(
+                [sys.executable, str(HERE / "worker.py"), json.dumps(job)],
+                capture_output=True,
+                text=True,
+                timeout=timeout,
+            )
         except subprocess.TimeoutExpired:
             return {"error": "timed out after %d s" % timeout}
         if proc.returncode != 0 or not proc.stdout.strip():
@@ -157,22 +182,26 @@ def run_case(case, library, timeout):
 
 # ---------------------------------------------------------------- profile
 
+
 def run_profiles(args, workdir):
     import profile as callgrind
+
     if not callgrind.available():
         return {"skipped": "valgrind or callgrind_annotate not found"}
     build_dir = pathlib.Path(tempfile.gettempdir()) / "developable-bench-profile-build"
     log("profile: building the engine with -g into %s" % build_dir)
     tool = callgrind.build(build_dir)
     out = {"cases": []}
-    targets = [("curved cone (720 v, 1280 f), defaults", {"named": "curved_cone"}, ()),
-               ("curved cone, paper mode, E_allow 10 AE, omega 5, boundary pinned",
-                {"named": "curved_cone"},
-                ("--mode", "paper", "--tolerance", "10", "--max-move", "0", "--omega", "5",
-                 "--pin-boundary"))]
+    targets = [
+        ("curved cone (720 v, 1280 f), defaults", {"named": "curved_cone"}, ()),
+        (
+            "curved cone, paper mode, E_allow 10 AE, omega 5, boundary pinned",
+            {"named": "curved_cone"},
+            ("--mode", "paper", "--tolerance", "10", "--max-move", "0", "--omega", "5", "--pin-boundary"),
+        ),
+    ]
     if not args.quick:
-        targets.append(("noisy cylinder, 100k faces, defaults",
-                        {"family": "cylinder", "faces": 100_000}, ()))
+        targets.append(("noisy cylinder, 100k faces, defaults", {"family": "cylinder", "faces": 100_000}, ()))
     for title, spec, extra in targets:
         log("profile: callgrind on %s" % title)
         positions, triangles = meshes.load(spec)
@@ -194,33 +223,51 @@ def run_profiles(args, workdir):
 
 # ---------------------------------------------------------------- main
 
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--quick", action="store_true",
-                        help="a small fast slice (CI smoke test): a few small meshes, no profile")
-    parser.add_argument("--out", default=str(REPO / "docs"),
-                        help="folder for benchmarks.md and bench-*.png (default docs/)")
-    parser.add_argument("--build-dir", default=os.environ.get("DEVELOPABLE_BUILD_DIR",
-                                                              str(REPO / "build")),
-                        help="engine build folder (default build/ or $DEVELOPABLE_BUILD_DIR)")
-    parser.add_argument("--compare", metavar="'COMMAND {in} {out}'",
-                        help="another developability tool: {in} is an OBJ it reads, {out} the "
-                             "OBJ it must write; its rows get the same metrics")
-    parser.add_argument("--compare-max-faces", type=int, default=100_000,
-                        help="largest generated mesh given to --compare (default 100000)")
-    parser.add_argument("--max-faces", type=int, default=1_000_000,
-                        help="largest generated mesh (default 1000000)")
-    parser.add_argument("--repeat", type=int, default=3,
-                        help="runs per small case (<= 20k faces); timings are the median")
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument(
+        "--quick", action="store_true", help="a small fast slice (CI smoke test): a few small meshes, no profile"
+    )
+    parser.add_argument(
+        "--out", default=str(REPO / "docs"), help="folder for benchmarks.md and bench-*.png (default docs/)"
+    )
+    parser.add_argument(
+        "--build-dir",
+        default=os.environ.get("DEVELOPABLE_BUILD_DIR", str(REPO / "build")),
+        help="engine build folder (default build/ or $DEVELOPABLE_BUILD_DIR)",
+    )
+    parser.add_argument(
+        "--compare",
+        metavar="'COMMAND {in} {out}'",
+        help="another developability tool: {in} is an OBJ it reads, {out} the "
+        "OBJ it must write; its rows get the same metrics",
+    )
+    parser.add_argument(
+        "--compare-max-faces",
+        type=int,
+        default=100_000,
+        help="largest generated mesh given to --compare (default 100000)",
+    )
+    parser.add_argument("--max-faces", type=int, default=1_000_000, help="largest generated mesh (default 1000000)")
+    parser.add_argument(
+        "--repeat", type=int, default=3, help="runs per small case (<= 20k faces); timings are the median"
+    )
     parser.add_argument("--timeout", type=int, default=3600, help="seconds per case")
     parser.add_argument("--no-profile", action="store_true", help="skip the callgrind profile")
-    parser.add_argument("--reuse", action="store_true",
-                        help="reuse rows of the previous results file for identical cases "
-                             "(only to iterate on the report; final numbers need a fresh run)")
-    parser.add_argument("--report-only", action="store_true",
-                        help="no runs: rewrite the document and plots from the raw results "
-                             "of the last run in the same --out folder")
+    parser.add_argument(
+        "--reuse",
+        action="store_true",
+        help="reuse rows of the previous results file for identical cases "
+        "(only to iterate on the report; final numbers need a fresh run)",
+    )
+    parser.add_argument(
+        "--report-only",
+        action="store_true",
+        help="no runs: rewrite the document and plots from the raw results " "of the last run in the same --out folder",
+    )
     args = parser.parse_args(argv)
     if args.quick:
         args.repeat = 1
@@ -229,8 +276,7 @@ def main(argv=None):
     build_dir = pathlib.Path(args.build_dir)
     library = build_dir / "lib" / "libdevelopable.so"
     if not library.exists():
-        sys.exit("no engine at %s: build first (cmake -S . -B build && cmake --build build -j2)"
-                 % library)
+        sys.exit("no engine at %s: build first (cmake -S . -B build && cmake --build build -j2)" % library)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     default_out = out.resolve() == (REPO / "docs").resolve()
@@ -257,8 +303,16 @@ def main(argv=None):
         if key in previous and "error" not in previous[key]:
             row = previous[key]
         else:
-            log("%d/%d %s: %s %s" % (index, len(cases), case["section"], case["label"],
-                                     json.dumps(case["params"]) if case["params"] else ""))
+            log(
+                "%d/%d %s: %s %s"
+                % (
+                    index,
+                    len(cases),
+                    case["section"],
+                    case["label"],
+                    json.dumps(case["params"]) if case["params"] else "",
+                )
+            )
             result = run_case(case, library, args.timeout)
             row = dict(case)
             row.update(result)
@@ -266,9 +320,15 @@ def main(argv=None):
             if "error" in result:
                 log("   error: %s" % result["error"])
             else:
-                log("   t_T %.1f ms, peak %.0f MiB, mean |defect| %.3g -> %.3g" % (
-                    result.get("t_T", float("nan")), result.get("peak_mib", float("nan")),
-                    result.get("mean_before", float("nan")), result.get("mean_after", float("nan"))))
+                log(
+                    "   t_T %.1f ms, peak %.0f MiB, mean |defect| %.3g -> %.3g"
+                    % (
+                        result.get("t_T", float("nan")),
+                        result.get("peak_mib", float("nan")),
+                        result.get("mean_before", float("nan")),
+                        result.get("mean_after", float("nan")),
+                    )
+                )
         rows.append(row)
         raw_path.write_text(json.dumps({"machine": info, "rows": rows}, indent=1))
 
@@ -280,8 +340,7 @@ def main(argv=None):
     command = "/usr/bin/python3 bench/run.py" + (" --quick" if args.quick else "")
     if args.compare:
         command += " --compare %r" % args.compare
-    data = {"machine": info, "rows": rows, "profiles": profiles, "command": command,
-            "quick": args.quick}
+    data = {"machine": info, "rows": rows, "profiles": profiles, "command": command, "quick": args.quick}
     raw_path.write_text(json.dumps(data, indent=1))
     report.write(data, out)
     log("wrote %s and its plots (%s), raw numbers in %s" % (out / "benchmarks.md", out, raw_path))

@@ -24,15 +24,15 @@
 // factorise runs and --solve-repeats solves.
 //
 // Usage: solver_bench [--factor-repeats N] [--solve-repeats N] FACES...
-#include "deformation.h"
-#include "measures.h"
-#include "mesh_input.h"
-#include "pipeline.h"
+#include "core/measures.h"
+#include "core/mesh_input.h"
+#include "deformation/deformation.h"
+#include "pipeline/pipeline.h"
 
 #include <Eigen/CholmodSupport>
 #ifdef DEVELOPABLE_HAVE_METIS
-#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
 #include <Eigen/MetisSupport>
+#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
 #endif
 
 #include <algorithm>
@@ -126,12 +126,18 @@ template <typename Derived>
 std::string cholmod_ordering(Eigen::CholmodBase<SparseMatrix, Eigen::Lower, Derived>& solver) {
   const cholmod_common& common = solver.cholmod();
   switch (common.method[common.selected].ordering) {
-    case CHOLMOD_NATURAL: return "natural";
-    case CHOLMOD_AMD: return "amd";
-    case CHOLMOD_METIS: return "metis";
-    case CHOLMOD_NESDIS: return "nesdis";
-    case CHOLMOD_COLAMD: return "colamd";
-    default: return "other";
+    case CHOLMOD_NATURAL:
+      return "natural";
+    case CHOLMOD_AMD:
+      return "amd";
+    case CHOLMOD_METIS:
+      return "metis";
+    case CHOLMOD_NESDIS:
+      return "nesdis";
+    case CHOLMOD_COLAMD:
+      return "colamd";
+    default:
+      return "other";
   }
 }
 
@@ -150,8 +156,8 @@ struct Options {
 // returns x in its own layout) on the problem and prints its JSON line;
 // `ordering(solver)` names the solver's ordering.
 template <typename Solver, typename Solve, typename Ordering>
-void measure(const char* name, const Problem& problem, const Options& options, Solver& solver,
-             Solve solve, Ordering ordering) {
+void measure(const char* name, const Problem& problem, const Options& options, Solver& solver, Solve solve,
+             Ordering ordering) {
   std::vector<double> analyse, factor, solves;
   for (int r = 0; r < options.factor_repeats; ++r) {
     auto start = std::chrono::steady_clock::now();
@@ -173,16 +179,14 @@ void measure(const char* name, const Problem& problem, const Options& options, S
   }
   const Eigen::MatrixX3d b = problem.rhs;
   const Eigen::MatrixX3d residual = problem.matrix * Eigen::MatrixX3d(x) - b;
-  const double relative =
-      residual.colwise().norm().cwiseQuotient(b.colwise().norm()).maxCoeff();
+  const double relative = residual.colwise().norm().cwiseQuotient(b.colwise().norm()).maxCoeff();
   std::printf(
       "{\"faces\": %ld, \"vertices\": %ld, \"matrix_nnz\": %ld, \"solver\": \"%s\", "
       "\"ordering\": \"%s\", \"analyse_ms\": %.3f, \"factor_ms\": %.3f, \"solve_ms\": %.3f, "
       "\"factor_nnz\": %.0f, \"residual\": %.3e, \"factor_repeats\": %d, \"solve_repeats\": %d}\n",
       static_cast<long>(problem.band.triangles.rows()), static_cast<long>(problem.matrix.rows()),
-      static_cast<long>(problem.matrix.nonZeros()), name, ordering(solver).c_str(), median(analyse),
-      median(factor), median(solves), factor_nnz(solver), relative, options.factor_repeats,
-      options.solve_repeats);
+      static_cast<long>(problem.matrix.nonZeros()), name, ordering(solver).c_str(), median(analyse), median(factor),
+      median(solves), factor_nnz(solver), relative, options.factor_repeats, options.solve_repeats);
   std::fflush(stdout);
 }
 
@@ -194,8 +198,8 @@ Problem engine_problem(long faces) {
   const developable::Normals normals = developable::face_normals(positions, triangles);
   const developable::NormalGuidedDeformation deformation(
       triangles, std::vector<bool>(static_cast<size_t>(positions.rows()), false),
-      Eigen::VectorXd::Ones(triangles.rows()), developable::PipelineOptions().omega,
-      developable::kRefitCentroidWeight, developable::Formulation::decoupled, normals);
+      Eigen::VectorXd::Ones(triangles.rows()), developable::PipelineOptions().omega, developable::kRefitCentroidWeight,
+      developable::Formulation::decoupled, normals);
   problem.matrix = deformation.system_matrix();
   problem.rhs = problem.matrix * deformation.step(positions, normals);
   return problem;
@@ -203,12 +207,8 @@ Problem engine_problem(long faces) {
 
 void run(long faces, const Options& options) {
   const Problem problem = engine_problem(faces);
-  const auto solve = [](const auto& solver, const Positions& b) -> Eigen::MatrixX3d {
-    return solver.solve(b);
-  };
-  const auto named = [](const char* ordering) {
-    return [ordering](const auto&) { return std::string(ordering); };
-  };
+  const auto solve = [](const auto& solver, const Positions& b) -> Eigen::MatrixX3d { return solver.solve(b); };
+  const auto named = [](const char* ordering) { return [ordering](const auto&) { return std::string(ordering); }; };
   const auto chosen = [](auto& solver) { return cholmod_ordering(solver); };
   {
     developable::CholeskySolver solver;
@@ -289,8 +289,8 @@ int main(int argc, char** argv) {
   const char* compiler = "gcc " __VERSION__;
 #endif
   std::printf("{\"compiler\": \"%s\", \"eigen\": \"%d.%d.%d\", \"cholmod\": \"%d.%d.%d\", \"metis\": \"%s\"}\n",
-              compiler, EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION,
-              CHOLMOD_MAIN_VERSION, CHOLMOD_SUB_VERSION, CHOLMOD_SUBSUB_VERSION, metis_version().c_str());
+              compiler, EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION, CHOLMOD_MAIN_VERSION,
+              CHOLMOD_SUB_VERSION, CHOLMOD_SUBSUB_VERSION, metis_version().c_str());
   for (long faces : sizes) run(faces, options);
   return 0;
 }

@@ -23,10 +23,10 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent))  # devkit
-from devkit import measures, meshes  # noqa: E402
-from devkit.binding import native, params_from_names  # noqa: E402
-from devkit.distance import bbox_diagonal, sampled_hausdorff  # noqa: E402
-from devkit.obj import read_obj, write_obj  # noqa: E402
+from devkit import measures, meshes
+from devkit.binding import native, params_from_names
+from devkit.distance import bbox_diagonal, sampled_hausdorff
+from devkit.obj import read_obj, write_obj
 
 
 def status_kib(field):
@@ -77,11 +77,16 @@ def run_engine(case, positions, triangles):
     s = result.stats
     return {
         "out_positions": result.positions,
-        "engine_stats": {k: (v if not isinstance(v, float) or math.isfinite(v) else None)
-                         for k, v in s.items()},
-        "t_D": s["time_decompose_ms"], "t_I": s["time_iterate_ms"], "t_T": s["time_total_ms"],
-        "wall_ms": 1000.0 * wall, "cpu_ms": 1000.0 * cpu, "rss_before_mib": rss0 / 1024.0, "peak_mib": peak / 1024.0,
-        "iterations": s["iterations"], "stop_reason": native.STOP_REASONS[s["stop_reason"]],
+        "engine_stats": {k: (v if not isinstance(v, float) or math.isfinite(v) else None) for k, v in s.items()},
+        "t_D": s["time_decompose_ms"],
+        "t_I": s["time_iterate_ms"],
+        "t_T": s["time_total_ms"],
+        "wall_ms": 1000.0 * wall,
+        "cpu_ms": 1000.0 * cpu,
+        "rss_before_mib": rss0 / 1024.0,
+        "peak_mib": peak / 1024.0,
+        "iterations": s["iterations"],
+        "stop_reason": native.STOP_REASONS[s["stop_reason"]],
         "patches": s["patches"],
         "stages_ms": stages,
     }
@@ -96,8 +101,7 @@ def run_compare(case, positions, triangles):
         # ru_maxrss; GNU time forks the command from a small process instead.
         gnu_time = shutil.which("time") if os.path.exists("/usr/bin/time") else None
         rss_file = os.path.join(tmp, "maxrss")
-        argv = [gnu_time, "-f", "%M", "-o", rss_file, "sh", "-c", command] if gnu_time else \
-            ["sh", "-c", command]
+        argv = [gnu_time, "-f", "%M", "-o", rss_file, "sh", "-c", command] if gnu_time else ["sh", "-c", command]
         t0 = time.perf_counter()
         proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         _, err = proc.communicate(timeout=case.get("timeout", 3600))
@@ -109,18 +113,21 @@ def run_compare(case, positions, triangles):
         if proc.returncode != 0 or not os.path.exists(dst):
             return {"error": "exit %d: %s" % (proc.returncode, err.decode(errors="replace")[-300:])}
         out_pos, out_tri = read_obj(dst)
-    return {"out_positions": out_pos, "out_triangles": out_tri, "t_T": 1000.0 * wall,
-            "wall_ms": 1000.0 * wall, "peak_mib": peak / 1024.0}
+    return {
+        "out_positions": out_pos,
+        "out_triangles": out_tri,
+        "t_T": 1000.0 * wall,
+        "wall_ms": 1000.0 * wall,
+        "peak_mib": peak / 1024.0,
+    }
 
 
 def main():
     case = json.loads(sys.argv[1])
     t0 = time.perf_counter()
     positions, triangles = meshes.load(case["mesh"])
-    row = {"v": int(len(positions)), "f": int(len(triangles)),
-           "mesh_seconds": time.perf_counter() - t0}
-    run = run_compare(case, positions, triangles) if case.get("compare") else \
-        run_engine(case, positions, triangles)
+    row = {"v": int(len(positions)), "f": int(len(triangles)), "mesh_seconds": time.perf_counter() - t0}
+    run = run_compare(case, positions, triangles) if case.get("compare") else run_engine(case, positions, triangles)
     if "error" in run:
         row.update(run)
         print(json.dumps(row))
@@ -130,16 +137,23 @@ def main():
     row.update(run)
     before = measures.defect_summary(positions, triangles)
     after = measures.defect_summary(out_pos, out_tri)
-    row.update({
-        "AE": measures.average_edge_length(positions, triangles),
-        "mean_before": before["mean"], "max_before": before["max"], "flat_before": before["flat"],
-        "mean_after": after["mean"], "max_after": after["max"], "flat_after": after["flat"],
-    })
+    row.update(
+        {
+            "AE": measures.average_edge_length(positions, triangles),
+            "mean_before": before["mean"],
+            "max_before": before["max"],
+            "flat_before": before["flat"],
+            "mean_after": after["mean"],
+            "max_after": after["max"],
+            "flat_after": after["flat"],
+        }
+    )
     row["dE"] = 100.0 * (after["mean"] - before["mean"]) / before["mean"] if before["mean"] else 0.0
     row["out_v"], row["out_f"] = int(len(out_pos)), int(len(out_tri))
     diag = bbox_diagonal(positions)
-    row["max_move"] = float(np.linalg.norm(out_pos - positions, axis=1).max()) \
-        if len(out_pos) == len(positions) else None
+    row["max_move"] = (
+        float(np.linalg.norm(out_pos - positions, axis=1).max()) if len(out_pos) == len(positions) else None
+    )
     if case.get("hausdorff", True):
         t1 = time.perf_counter()
         row["hausdorff"] = sampled_hausdorff(positions, triangles, out_pos, out_tri) / diag

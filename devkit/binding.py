@@ -38,8 +38,9 @@ ENUMS = {
 def params_from_names(params):
     """dev_params values with enumerations given by name ({"mode": "paper"})
     turned into the binding's numbers; unknown names raise KeyError."""
-    return {key: ENUMS[key][value] if key in ENUMS and isinstance(value, str) else value
-            for key, value in params.items()}
+    return {
+        key: ENUMS[key][value] if key in ENUMS and isinstance(value, str) else value for key, value in params.items()
+    }
 
 
 def enum_name(key, value):

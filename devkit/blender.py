@@ -41,18 +41,18 @@ def workbench_scene(scene, width, height, background):
     """Sets `scene` up for Workbench renders of vertex colours as they are:
     studio light, no cavity, no back-face culling, 8x anti-aliasing, the
     Standard view transform, a plain world colour, PNG (RGB) output."""
-    scene.render.engine = 'BLENDER_WORKBENCH'
+    scene.render.engine = "BLENDER_WORKBENCH"
     scene.render.resolution_x, scene.render.resolution_y = width, height
     scene.render.resolution_percentage = 100
-    scene.render.image_settings.file_format = 'PNG'
-    scene.render.image_settings.color_mode = 'RGB'
-    scene.display.render_aa = '8'
+    scene.render.image_settings.file_format = "PNG"
+    scene.render.image_settings.color_mode = "RGB"
+    scene.display.render_aa = "8"
     shading = scene.display.shading
-    shading.light = 'STUDIO'
-    shading.color_type = 'VERTEX'
+    shading.light = "STUDIO"
+    shading.color_type = "VERTEX"
     shading.show_backface_culling = False
     shading.show_cavity = False
     shading.show_specular_highlight = False
-    scene.view_settings.view_transform = 'Standard'
+    scene.view_settings.view_transform = "Standard"
     scene.world = scene.world or bpy.data.worlds.new("World")
     scene.world.color = background

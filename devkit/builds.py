@@ -36,8 +36,7 @@ from .paths import REPO
 # What the extra builds compile (unit tests and the add-on zip are off there).
 SOURCES = ("CMakeLists.txt", "native", "cmake")
 # libclang-*: FuzzedDataProvider.h, without which the ASan build has no fuzz_replay
-LIBRARY_PACKAGES = ("libeigen3-dev", "libopenmesh-dev", "libclang-common-14-dev",
-                    "libclang-rt-14-dev")
+LIBRARY_PACKAGES = ("libeigen3-dev", "libopenmesh-dev", "libclang-common-14-dev", "libclang-rt-14-dev")
 FLAG_VARIABLES = ("CXXFLAGS", "CPPFLAGS", "LDFLAGS")
 KEEP = 4  # folders of one kind kept (the most recently used), for other checkouts
 
@@ -45,8 +44,7 @@ KEEP = 4  # folders of one kind kept (the most recently used), for other checkou
 def cache_root():
     root = os.environ.get("DEVELOPABLE_CACHE_DIR")
     if not root:
-        root = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"),
-                            "developable")
+        root = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "developable")
     return pathlib.Path(root)
 
 
@@ -58,8 +56,7 @@ def source_files(repo=REPO):
         if path.is_file():
             files.append(pathlib.Path(name))
         elif path.is_dir():
-            files += [p.relative_to(repo) for p in path.rglob("*")
-                      if p.is_file() and "__pycache__" not in p.parts]
+            files += [p.relative_to(repo) for p in path.rglob("*") if p.is_file() and "__pycache__" not in p.parts]
     return sorted(files)
 
 
@@ -73,10 +70,14 @@ def _output(*command):
 def key(compiler, configure, repo=REPO):
     """The hash that names a build folder (see the module's docstring)."""
     h = hashlib.sha256(b"developable extra build 1\0")
-    for part in (os.path.realpath(compiler), _output(compiler, "--version"),
-                 _output("cmake", "--version"),
-                 _output("dpkg-query", "-W", *LIBRARY_PACKAGES), *configure,
-                 *("%s=%s" % (v, os.environ.get(v, "")) for v in FLAG_VARIABLES)):
+    for part in (
+        os.path.realpath(compiler),
+        _output(compiler, "--version"),
+        _output("cmake", "--version"),
+        _output("dpkg-query", "-W", *LIBRARY_PACKAGES),
+        *configure,
+        *("%s=%s" % (v, os.environ.get(v, "")) for v in FLAG_VARIABLES),
+    ):
         h.update(part.encode() + b"\0")
     for rel in source_files(repo):
         h.update(str(rel).encode() + b"\0")
@@ -105,9 +106,12 @@ def _snapshot(repo, target):
 def _prune(kind, keep_folder):
     """Removes the least recently used folders of `kind` beyond KEEP, skipping
     any that a run is using (holds its lock)."""
-    folders = sorted((p for p in cache_root().glob(kind + "-*") if p.is_dir() and p != keep_folder),
-                     key=lambda p: p.stat().st_mtime, reverse=True)
-    for folder in folders[KEEP - 1:]:
+    folders = sorted(
+        (p for p in cache_root().glob(kind + "-*") if p.is_dir() and p != keep_folder),
+        key=lambda p: p.stat().st_mtime,
+        reverse=True,
+    )
+    for folder in folders[KEEP - 1 :]:
         with open(folder / ".lock", "a") as f:
             try:
                 fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -124,14 +128,11 @@ class CachedBuild:
             ... build / "lib" / "libdevelopable.so" ...
     """
 
-    def __init__(self, kind, configure, compiler, targets=(), repo=REPO, jobs=None,
-                 timeout=3600):
+    def __init__(self, kind, configure, compiler, targets=(), repo=REPO, jobs=None, timeout=3600):
         self.kind, self.compiler, self.targets = kind, compiler, tuple(targets)
-        self.configure = ["-DCMAKE_CXX_COMPILER=" + compiler, "-DDEVELOPABLE_UNIT_TESTS=OFF",
-                          *configure]
+        self.configure = ["-DCMAKE_CXX_COMPILER=" + compiler, "-DDEVELOPABLE_UNIT_TESTS=OFF", *configure]
         self.repo, self.jobs, self.timeout = pathlib.Path(repo), jobs or os.cpu_count() or 2, timeout
-        self.folder = cache_root() / ("%s-%s" % (kind, key(compiler, self.configure + list(targets),
-                                                           repo)))
+        self.folder = cache_root() / ("%s-%s" % (kind, key(compiler, self.configure + list(targets), repo)))
         self.build = self.folder / "build"
         self.built_now = False
         self._shared = None
@@ -162,21 +163,25 @@ class CachedBuild:
         if not src.is_dir():
             _snapshot(self.repo, src)
         launcher, env = _ccache(src)
-        configure = subprocess.run(["cmake", "-S", str(src), "-B", str(self.build),
-                                    *self.configure, *launcher], capture_output=True, text=True,
-                                   timeout=600)
+        configure = subprocess.run(
+            ["cmake", "-S", str(src), "-B", str(self.build), *self.configure, *launcher],
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
         if configure.returncode != 0:
-            raise RuntimeError("configuring %s failed:\n%s%s" % (self.build, configure.stdout[-3000:],
-                                                                 configure.stderr[-3000:]))
+            raise RuntimeError(
+                "configuring %s failed:\n%s%s" % (self.build, configure.stdout[-3000:], configure.stderr[-3000:])
+            )
         command = ["cmake", "--build", str(self.build), "--parallel", str(self.jobs)]
         for target in self.targets:
             command += ["--target", target]
         run = subprocess.run(command, capture_output=True, text=True, timeout=self.timeout, env=env)
         if run.returncode != 0:
-            raise RuntimeError("building %s failed:\n%s%s" % (self.build, run.stdout[-3000:],
-                                                              run.stderr[-3000:]))
-        (self.build / ".complete").write_text(json.dumps(
-            {"configure": self.configure, "targets": self.targets, "from": str(self.repo)}))
+            raise RuntimeError("building %s failed:\n%s%s" % (self.build, run.stdout[-3000:], run.stderr[-3000:]))
+        (self.build / ".complete").write_text(
+            json.dumps({"configure": self.configure, "targets": self.targets, "from": str(self.repo)})
+        )
         self.built_now = True
 
 
@@ -210,14 +215,23 @@ def clang_compiler():
 
 def asan(**kw):
     """The ASan + UBSan build (gcc, RelWithDebInfo): library, tool, fuzz_replay."""
-    return CachedBuild("build-asan", ["-DDEVELOPABLE_SANITIZE=ON", "-DCMAKE_BUILD_TYPE=RelWithDebInfo"],
-                       shutil.which("g++") or "g++", **kw)
+    return CachedBuild(
+        "build-asan",
+        ["-DDEVELOPABLE_SANITIZE=ON", "-DCMAKE_BUILD_TYPE=RelWithDebInfo"],
+        shutil.which("g++") or "g++",
+        **kw,
+    )
 
 
 def fuzz(**kw):
     """The libFuzzer build (clang, RelWithDebInfo): bin/fuzz_c_api."""
-    return CachedBuild("build-fuzz", ["-DDEVELOPABLE_FUZZ=ON", "-DCMAKE_BUILD_TYPE=RelWithDebInfo"],
-                       clang_compiler() or "clang++", targets=["fuzz_c_api"], **kw)
+    return CachedBuild(
+        "build-fuzz",
+        ["-DDEVELOPABLE_FUZZ=ON", "-DCMAKE_BUILD_TYPE=RelWithDebInfo"],
+        clang_compiler() or "clang++",
+        targets=["fuzz_c_api"],
+        **kw,
+    )
 
 
 if __name__ == "__main__":

@@ -42,6 +42,7 @@ def point_triangle_distance(points, a, b, c):
     v = vb / denom
     w = vc / denom
     closest = a + v[:, None] * ab + w[:, None] * ac  # inside the face
+
     # Regions, in Ericson's order of precedence (applied last-to-first so the
     # earliest test wins).
     def blend(mask, value):
@@ -64,8 +65,7 @@ def samples(positions, triangles):
     """Vertices, edge midpoints and face centroids: where a one-sided distance
     between two triangle meshes of the same connectivity peaks in practice."""
     tri = positions[triangles]
-    mids = np.concatenate([(tri[:, 0] + tri[:, 1]) / 2, (tri[:, 1] + tri[:, 2]) / 2,
-                           (tri[:, 2] + tri[:, 0]) / 2])
+    mids = np.concatenate([(tri[:, 0] + tri[:, 1]) / 2, (tri[:, 1] + tri[:, 2]) / 2, (tri[:, 2] + tri[:, 0]) / 2])
     return np.concatenate([positions, mids, tri.mean(axis=1)])
 
 
@@ -99,8 +99,8 @@ class TriangleGrid:
         keys, tris = [], []
         step = 1 << 20
         for start in range(0, len(self.tri), step):
-            lo = self._index(self.lo[start:start + step])
-            hi = self._index(self.hi[start:start + step])
+            lo = self._index(self.lo[start : start + step])
+            hi = self._index(self.hi[start : start + step])
             owner, ix, iy, iz = _expand(lo, hi)
             keys.append(self._key(ix, iy, iz))
             tris.append(owner + start)
@@ -121,8 +121,7 @@ class TriangleGrid:
     def candidates(self, points, radius):
         """(point row, triangle) pairs: triangles in the cells overlapping each
         point's box of half-size radius, pruned by their bounding boxes."""
-        owner, ix, iy, iz = _expand(self._index(points - radius[:, None]),
-                                    self._index(points + radius[:, None]))
+        owner, ix, iy, iz = _expand(self._index(points - radius[:, None]), self._index(points + radius[:, None]))
         key = self._key(ix, iy, iz)
         slot = np.searchsorted(self.keys, key)
         slot = np.minimum(slot, len(self.keys) - 1)
@@ -143,9 +142,9 @@ class TriangleGrid:
         points = np.asarray(points, dtype=np.float64)
         out = np.empty(len(points))
         for start in range(0, len(points), chunk):
-            out[start:start + chunk] = self._distances(
-                points[start:start + chunk],
-                None if radius is None else radius[start:start + chunk])
+            out[start : start + chunk] = self._distances(
+                points[start : start + chunk], None if radius is None else radius[start : start + chunk]
+            )
         return out
 
     def _distances(self, points, radius):
@@ -161,8 +160,7 @@ class TriangleGrid:
             rr = r[todo] * (1 + 1e-9) + 1e-12 * self.cell
             owner, tri = self.candidates(points[todo], rr)
             if len(owner):
-                d = point_triangle_distance(points[todo][owner], self.tri[tri, 0],
-                                            self.tri[tri, 1], self.tri[tri, 2])
+                d = point_triangle_distance(points[todo][owner], self.tri[tri, 0], self.tri[tri, 1], self.tri[tri, 2])
                 found = np.full(len(todo), np.inf)
                 np.minimum.at(found, owner, d)
                 best[todo] = np.minimum(best[todo], found)
@@ -173,9 +171,9 @@ class TriangleGrid:
             todo = rest
         if len(todo):  # pathological: brute force
             for i in todo:
-                best[i] = point_triangle_distance(points[i:i + 1][[0] * len(self.tri)],
-                                                  self.tri[:, 0], self.tri[:, 1],
-                                                  self.tri[:, 2]).min()
+                best[i] = point_triangle_distance(
+                    points[i : i + 1][[0] * len(self.tri)], self.tri[:, 0], self.tri[:, 1], self.tri[:, 2]
+                ).min()
         return best
 
 
@@ -193,8 +191,7 @@ def sampled_hausdorff(pos_a, tri_a, pos_b, tri_b):
     hint = None
     if len(pos_a) == len(pos_b) and np.array_equal(tri_a, tri_b):
         hint = np.linalg.norm(samples(pos_a, tri_a) - samples(pos_b, tri_b), axis=1)
-    return max(one_sided(pos_a, tri_a, pos_b, tri_b, hint=hint),
-               one_sided(pos_b, tri_b, pos_a, tri_a, hint=hint))
+    return max(one_sided(pos_a, tri_a, pos_b, tri_b, hint=hint), one_sided(pos_b, tri_b, pos_a, tri_a, hint=hint))
 
 
 def bbox_diagonal(positions):

@@ -30,9 +30,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 FAMILIES = (
-    "cylinder_patch", "cylinder_band", "cone_patch", "cone_band",
-    "tangent_helix", "tangent_cubic", "tangent_random",
-    "generalized_cylinder", "generalized_cone", "bent_sheet", "curved_fold", "plane",
+    "cylinder_patch",
+    "cylinder_band",
+    "cone_patch",
+    "cone_band",
+    "tangent_helix",
+    "tangent_cubic",
+    "tangent_random",
+    "generalized_cylinder",
+    "generalized_cone",
+    "bent_sheet",
+    "curved_fold",
+    "plane",
 )
 TRIANGULATIONS = ("grid", "alternating", "irregular", "slivers")
 CLOSED_FAMILIES = ("cylinder_band", "cone_band")  # closed around u
@@ -43,14 +52,15 @@ class FamilyMesh:
     family: str
     triangulation: str
     seed: int
-    noise: float               # amplitude in AE
-    positions: np.ndarray      # noisy (n, 3)
-    clean: np.ndarray          # noise-free twin (n, 3)
-    triangles: np.ndarray      # (m, 3) int32
+    noise: float  # amplitude in AE
+    positions: np.ndarray  # noisy (n, 3)
+    clean: np.ndarray  # noise-free twin (n, 3)
+    triangles: np.ndarray  # (m, 3) int32
     info: dict = field(default_factory=dict)
 
 
 # -- surfaces on the parameter square (u, v) in [0, 1]^2 ----------------------------------
+
 
 def _unit(v):
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
@@ -75,6 +85,7 @@ def _surface(family, rng):
         def f(u, v):
             t = span * u
             return np.stack([radius * np.cos(t), radius * np.sin(t), height * v], -1)
+
         return f, radius * span / height, closed
     if family in ("cone_patch", "cone_band"):
         closed = family == "cone_band"
@@ -86,6 +97,7 @@ def _surface(family, rng):
             t = span * u
             r = r0 + (r1 - r0) * v
             return np.stack([r * np.cos(t), r * np.sin(t), height * v], -1)
+
         return f, 0.5 * (r0 + r1) * span / np.hypot(height, r0 - r1), closed
     if family.startswith("tangent_"):
         if family == "tangent_helix":
@@ -95,18 +107,21 @@ def _surface(family, rng):
             def curve(s):
                 t = 2 * np.pi * turns * s
                 return np.stack([a * np.cos(t), a * np.sin(t), b * t], -1)
+
         elif family == "tangent_cubic":
             scale = rng.uniform(0.8, 1.5)
             lo = rng.uniform(-1.2, -0.6)
 
             def curve(s):
                 t = lo + (-2 * lo) * s
-                return scale * np.stack([t, t ** 2, t ** 3], -1)
+                return scale * np.stack([t, t**2, t**3], -1)
+
         else:
             wx, wy, wz = _wavy(rng, amplitude=0.4), _wavy(rng, amplitude=0.4), _wavy(rng, amplitude=0.4)
 
             def curve(s):
-                return np.stack([2.0 * s + wx(s), np.sin(2.5 * s) + wy(s), 0.6 * s ** 2 + wz(s)], -1)
+                return np.stack([2.0 * s + wx(s), np.sin(2.5 * s) + wy(s), 0.6 * s**2 + wz(s)], -1)
+
         h = 1e-5
         ss = np.linspace(0, 1, 2001)
         length = np.linalg.norm(np.diff(curve(ss), axis=0), axis=1).sum()
@@ -115,6 +130,7 @@ def _surface(family, rng):
         def f(u, v):
             tangent = _unit(curve(u + h) - curve(u - h))
             return curve(u) + (t0 + (t1 - t0) * v)[..., None] * tangent
+
         return f, length / (t1 - t0), False
     if family in ("generalized_cylinder", "bent_sheet", "curved_fold", "generalized_cone"):
         wave = _wavy(rng, amplitude=0.25)
@@ -131,9 +147,12 @@ def _surface(family, rng):
 
             def directrix(u):
                 return np.stack([np.interp(u, ss, xs), np.zeros_like(u), np.interp(u, ss, zs)], -1)
+
         else:
+
             def directrix(u):
                 return np.stack([width * u, np.zeros_like(u), width * wave(u)], -1)
+
         depth = rng.uniform(0.8, 2.0)
         if family == "generalized_cone":
             apex = np.array([0.5 * width, rng.uniform(2.5, 4.0) * depth, rng.uniform(-0.5, 0.5)])
@@ -142,10 +161,13 @@ def _surface(family, rng):
                 d = directrix(u)
                 w = (0.55 * v)[..., None]
                 return d + w * (apex - d)
+
             return f, width / (0.55 * np.linalg.norm(apex - directrix(np.array(0.5)))), False
         if family != "curved_fold":
+
             def f(u, v):
                 return directrix(u) + (depth * v)[..., None] * np.array([0.0, 1.0, 0.0])
+
             return f, width / depth, False
         # Curved fold: the generalized cylinder y -> (x(u), y, z(u)) cut by the
         # plane y cos a + z sin a = c; the side beyond it is reflected through
@@ -162,17 +184,20 @@ def _surface(family, rng):
             beyond = side > 0
             p[beyond] -= 2 * side[beyond, None] * normal
             return p
+
         return f, width / depth, False
     if family == "plane":
         size = rng.uniform(1.0, 2.0)
 
         def f(u, v):
             return np.stack([size * u, size * v * 0.8, np.zeros_like(u)], -1)
+
         return f, 1.25, False
     raise ValueError("unknown family %r (families.FAMILIES)" % family)
 
 
 # -- triangulations of the parameter square ------------------------------------------------
+
 
 def _grid(rows, cols, closed, alternating):
     """Triangles of a (rows+1) x (cols+1) vertex grid, u along columns; closed: column
@@ -201,6 +226,7 @@ def _grid_uv(rows, cols, closed):
 def _irregular(count_u, count_v, rng):
     """Delaunay triangles of jittered points; the border points stay on the border."""
     from scipy.spatial import Delaunay
+
     uu, vv = np.meshgrid(np.arange(count_u + 1) / count_u, np.arange(count_v + 1) / count_v)
     u, v = uu.ravel().copy(), vv.ravel().copy()
     inner_u = (u > 0) & (u < 1)
@@ -245,12 +271,20 @@ def make(family, triangulation="grid", faces=2000, noise=0.02, seed=0):
     edges = np.unique(np.sort(edges, axis=1), axis=0)
     ae = np.linalg.norm(clean[edges[:, 0]] - clean[edges[:, 1]], axis=1).mean()
     positions = clean + rng.uniform(-1.0, 1.0, clean.shape) * noise * ae
-    return FamilyMesh(family, triangulation, seed, noise, positions, clean, triangles,
-                      {"rows": rows, "cols": cols, "closed": closed, "ae": ae})
+    return FamilyMesh(
+        family,
+        triangulation,
+        seed,
+        noise,
+        positions,
+        clean,
+        triangles,
+        {"rows": rows, "cols": cols, "closed": closed, "ae": ae},
+    )
 
 
 def angle_defects(positions, triangles):
-    """(angle defect per vertex in rad, interior mask), as native/measures.h defines them."""
+    """(angle defect per vertex in rad, interior mask), as native/core/measures.h defines them."""
     p, t = np.asarray(positions, dtype=np.float64), np.asarray(triangles)
     n = len(p)
     angles = np.zeros(n)
@@ -278,8 +312,7 @@ def random_case(family, seed, faces=(500, 5000), noise=(0.005, 0.05), triangulat
     triangulation (one of `triangulations`, default every one the family takes)
     drawn from `seed` too."""
     rng = np.random.default_rng([seed, 7919, FAMILIES.index(family)])
-    options = [t for t in (triangulations or TRIANGULATIONS)
-               if not (family == "curved_fold" and t == "irregular")]
+    options = [t for t in (triangulations or TRIANGULATIONS) if not (family == "curved_fold" and t == "irregular")]
     triangulation = options[int(rng.integers(len(options)))]
     count = int(np.exp(rng.uniform(np.log(faces[0]), np.log(faces[1]))))
     amplitude = float(np.exp(rng.uniform(np.log(noise[0]), np.log(noise[1]))))

@@ -9,6 +9,7 @@ from .obj import read_obj
 
 # -- grids ------------------------------------------------------------------------
 
+
 def grid_triangles(rows, cols, wrap=False):
     """Triangles of a rows x cols vertex grid (row-major); wrap joins the last
     column to the first (a closed band)."""
@@ -46,6 +47,7 @@ def add_noise(positions, amplitude, seed=1):
 
 # -- exact developable surfaces and their noisy versions ------------------------------
 
+
 def plane(rows=12, cols=15, size=2.0):
     u, v = np.meshgrid(np.linspace(0, size, cols), np.linspace(0, size * 0.8, rows))
     pos = np.stack([u.ravel(), v.ravel(), np.zeros(u.size)], axis=1)
@@ -70,8 +72,7 @@ def cone(rows=10, cols=48, r0=1.5, r1=0.6, height=1.5, bulge=0.0):
     s = np.linspace(0, 1, rows)
     tt, ss = np.meshgrid(t, s)
     r = r0 + (r1 - r0) * ss + bulge * np.sin(np.pi * ss)
-    pos = np.stack([r.ravel() * np.cos(tt).ravel(), r.ravel() * np.sin(tt).ravel(),
-                    height * ss.ravel()], axis=1)
+    pos = np.stack([r.ravel() * np.cos(tt).ravel(), r.ravel() * np.sin(tt).ravel(), height * ss.ravel()], axis=1)
     return pos, grid_triangles(rows, cols, wrap=True)
 
 
@@ -110,8 +111,9 @@ def cylinder_cone(rows_each=8, cols=40, radius=1.0, height=1.0, apex_height=1.2)
     s = np.linspace(0, 1, rows_each)
     ring_r = np.concatenate([np.full(rows_each, radius), radius * (1 - 0.5 * s[1:])])
     ring_z = np.concatenate([height * s, height + apex_height * 0.5 * s[1:]])
-    pos = np.stack([np.outer(ring_r, np.cos(t)).ravel(), np.outer(ring_r, np.sin(t)).ravel(),
-                    np.repeat(ring_z, cols)], axis=1)
+    pos = np.stack(
+        [np.outer(ring_r, np.cos(t)).ravel(), np.outer(ring_r, np.sin(t)).ravel(), np.repeat(ring_z, cols)], axis=1
+    )
     tris = grid_triangles(len(ring_r), cols, wrap=True)
     piece = np.repeat((np.arange(len(ring_r) - 1) >= rows_each - 1).astype(int), 2 * cols)
     return pos, tris, piece
@@ -136,8 +138,7 @@ def curved_fold(seed=0, rows=13, cols=41):
     t1 = np.linspace(0.0, 1.0, half)
     t2 = np.linspace(0.0, 1.0, rows - half + 1)[1:]
     y = np.concatenate([np.outer(t1, crease), crease + np.outer(t2, width - crease)])
-    pos = np.stack([np.broadcast_to(x, y.shape).ravel(), y.ravel(),
-                    np.broadcast_to(z, y.shape).ravel()], axis=1)
+    pos = np.stack([np.broadcast_to(x, y.shape).ravel(), y.ravel(), np.broadcast_to(z, y.shape).ravel()], axis=1)
     # Mirror the rows beyond the crease across the plane y - tilt z = 0.45 width.
     normal = np.array([0.0, 1.0, -tilt]) / np.sqrt(1.0 + tilt * tilt)
     offset = 0.45 * width / np.sqrt(1.0 + tilt * tilt)
@@ -175,8 +176,9 @@ def pipe_elbow(rng):
     u = np.linspace(0, 2 * np.pi, around, endpoint=False)
     v = np.linspace(0, angle, rings)
     vv, uu = np.meshgrid(v, u, indexing="ij")  # a row per ring
-    positions = np.stack([(bend_radius + np.cos(uu)) * np.cos(vv), (bend_radius + np.cos(uu)) * np.sin(vv),
-                          np.sin(uu)], -1).reshape(-1, 3)
+    positions = np.stack(
+        [(bend_radius + np.cos(uu)) * np.cos(vv), (bend_radius + np.cos(uu)) * np.sin(vv), np.sin(uu)], -1
+    ).reshape(-1, 3)
     return positions, grid_triangles(rings, around, wrap=True)
 
 
@@ -196,15 +198,22 @@ def open_box(rng):
 
     # each side: an origin corner and two edge vectors (outward normal = e1 x e2)
     x, y, z = np.diag(size)
-    sides = [(np.zeros(3), y, x, (1, 0)), (np.zeros(3), x, z, (0, 2)), (y, z, x, (2, 0)),
-             (np.zeros(3), z, y, (2, 1)), (x, y, z, (1, 2))]
+    sides = [
+        (np.zeros(3), y, x, (1, 0)),
+        (np.zeros(3), x, z, (0, 2)),
+        (y, z, x, (2, 0)),
+        (np.zeros(3), z, y, (2, 1)),
+        (x, y, z, (1, 2)),
+    ]
     for origin, e1, e2, (a, b) in sides:
         n1, n2 = cells[a], cells[b]
         grid = [[vertex(origin + e1 * i / n1 + e2 * j / n2) for j in range(n2 + 1)] for i in range(n1 + 1)]
         for i in range(n1):
             for j in range(n2):
-                tris += [(grid[i][j], grid[i + 1][j], grid[i + 1][j + 1]),
-                         (grid[i][j], grid[i + 1][j + 1], grid[i][j + 1])]
+                tris += [
+                    (grid[i][j], grid[i + 1][j], grid[i + 1][j + 1]),
+                    (grid[i][j], grid[i + 1][j + 1], grid[i][j + 1]),
+                ]
     return np.array(points), np.array(tris, dtype=np.int32)
 
 
@@ -217,8 +226,9 @@ def ring_torus_quads(n_major=48, n_minor=16, r=0.35, stagger=1.0):
     b = np.linspace(0, 2 * np.pi, n_minor, endpoint=False)
     A, B = np.meshgrid(a, b, indexing="ij")
     A = A + stagger * (np.pi / n_major) * (np.arange(n_minor) % 2)
-    points = np.stack([(1 + r * np.cos(B)) * np.cos(A), (1 + r * np.cos(B)) * np.sin(A), r * np.sin(B)],
-                      -1).reshape(-1, 3)
+    points = np.stack([(1 + r * np.cos(B)) * np.cos(A), (1 + r * np.cos(B)) * np.sin(A), r * np.sin(B)], -1).reshape(
+        -1, 3
+    )
     idx = np.arange(n_major * n_minor).reshape(n_major, n_minor)
     right, up = np.roll(idx, -1, axis=0), np.roll(idx, -1, axis=1)
     corner = np.roll(right, -1, axis=1)
@@ -291,15 +301,16 @@ def noisy_grid(faces, seed=0):
 
 # -- the run command's demo meshes (quads, as a modeller has them) ----------------------
 
+
 def cone_band(nu=80, nv=9, noise=0.004, bulge=0.06, seed=1):
     """A curved cone band like the paper's Fig. 3 (80 x 9 = 720 vertices), made
     non-developable by a smooth bulge plus random noise.
     Returns (vertices (nu*nv, 3) float64, quads (m, 4) int32)."""
     rng = np.random.default_rng(seed)
-    u = np.linspace(0.0, 1.5 * np.pi, nu)            # around the axis
-    v = np.linspace(0.0, 1.0, nv)                    # along the rulings
+    u = np.linspace(0.0, 1.5 * np.pi, nu)  # around the axis
+    v = np.linspace(0.0, 1.0, nv)  # along the rulings
     U, V = np.meshgrid(u, v, indexing="ij")
-    r = 1.0 + 0.8 * V                                # cone: radius grows along v
+    r = 1.0 + 0.8 * V  # cone: radius grows along v
     pts = np.stack([r * np.cos(U), r * np.sin(U), 1.2 * V], axis=-1)
     # "curved": bend the band (a developable cone stays developable only without it)
     radial = np.stack([np.cos(U), np.sin(U), np.zeros_like(U)], axis=-1)
@@ -329,6 +340,7 @@ def demo_cone_band():
 
 # -- benchmark families of any size --------------------------------------------------------
 
+
 def band_size(faces):
     """rows, cols of a closed band with rows - 1 = cols / 2 and ~faces faces."""
     cols = max(8, int(round(np.sqrt(faces))))
@@ -352,8 +364,7 @@ def noisy_cone(faces, noise=0.03, seed=2):
     return add_noise(pos, noise * 2 * np.pi * 1.05 / cols, seed), tris
 
 
-def generalized_cone(rows, cols, span=2 * np.pi, waist=0.5, pleats=8, pleat_depth=0.08,
-                     height=1.6, wave=0.02, waves=2):
+def generalized_cone(rows, cols, span=2 * np.pi, waist=0.5, pleats=8, pleat_depth=0.08, height=1.6, wave=0.02, waves=2):
     """A generalized cone (apex at the origin, rulings to a pleated directrix
     r(theta) = 1 + pleat_depth sin(pleats theta), z = -height), cut between
     s = waist and s = 1 of the ruling, with wavy rulings: every ruling is
@@ -366,8 +377,7 @@ def generalized_cone(rows, cols, span=2 * np.pi, waist=0.5, pleats=8, pleat_dept
     r = 1.0 + pleat_depth * np.sin(pleats * tt)
     u = (ss - waist) / (1.0 - waist)
     radial = ss * r + wave * np.sin(waves * np.pi * u)
-    pos = np.stack([(radial * np.cos(tt)).ravel(), (radial * np.sin(tt)).ravel(),
-                    (-height * ss).ravel()], 1)
+    pos = np.stack([(radial * np.cos(tt)).ravel(), (radial * np.sin(tt)).ravel(), (-height * ss).ravel()], 1)
     return pos, grid_triangles(rows, cols, wrap=closed)
 
 
@@ -381,14 +391,14 @@ def skirt():
     """Table II's skirt stand-in: an open (slit) pleated generalized cone of
     29 x 34 vertices = 986 v, 1848 f as in the paper, one bulge along the
     rulings; mean |defect| and AE are tuned near the paper's 4.91e-3 and 0.1113."""
-    pos, tris = generalized_cone(rows=29, cols=34, span=2 * np.pi * 0.9, waist=0.45, pleats=6,
-                                 pleat_depth=0.06, height=2.2, wave=0.1556, waves=1)
+    pos, tris = generalized_cone(
+        rows=29, cols=34, span=2 * np.pi * 0.9, waist=0.45, pleats=6, pleat_depth=0.06, height=2.2, wave=0.1556, waves=1
+    )
     return pos * 0.9679, tris
 
 
 FAMILIES = {"cylinder": noisy_cylinder, "cone": noisy_cone, "gcone": wavy_generalized_cone}
-FAMILY_TITLES = {"cylinder": "noisy cylinder", "cone": "noisy cone",
-                 "gcone": "generalized cone, wavy rulings"}
+FAMILY_TITLES = {"cylinder": "noisy cylinder", "cone": "noisy cone", "gcone": "generalized cone, wavy rulings"}
 NAMED = {"curved_cone": curved_cone, "skirt": skirt}
 
 

@@ -7,8 +7,7 @@ def write_obj(path, positions, triangles):
     that the file reads back bit for bit; inf, nan, loose vertices and
     out-of-range indices are written as they are, for bad-input tests)."""
     with open(path, "w") as f:
-        np.savetxt(f, np.asarray(positions, dtype=np.float64).reshape(-1, 3),
-                   fmt="v %.17g %.17g %.17g")
+        np.savetxt(f, np.asarray(positions, dtype=np.float64).reshape(-1, 3), fmt="v %.17g %.17g %.17g")
         np.savetxt(f, np.asarray(triangles, dtype=np.int64).reshape(-1, 3) + 1, fmt="f %d %d %d")
 
 
@@ -27,5 +26,4 @@ def read_obj(path):
                 idx = [int(x.split("/")[0]) - 1 for x in w[1:]]
                 for k in range(1, len(idx) - 1):
                     tris.append([idx[0], idx[k], idx[k + 1]])
-    return (np.array(pos, dtype=np.float64).reshape(-1, 3),
-            np.array(tris, dtype=np.int32).reshape(-1, 3))
+    return (np.array(pos, dtype=np.float64).reshape(-1, 3), np.array(tris, dtype=np.int32).reshape(-1, 3))

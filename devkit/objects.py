@@ -30,20 +30,51 @@ KINDS = ("blob", "rounded_box", "torus", "limb")
 class ObjectMesh:
     kind: str
     seed: int
-    noise: float               # amplitude in AE
-    positions: np.ndarray      # (n, 3), noisy if noise > 0
-    clean: np.ndarray          # (n, 3) without the noise
-    triangles: np.ndarray      # (m, 3) int32, outward
+    noise: float  # amplitude in AE
+    positions: np.ndarray  # (n, 3), noisy if noise > 0
+    clean: np.ndarray  # (n, 3) without the noise
+    triangles: np.ndarray  # (m, 3) int32, outward
     info: dict = field(default_factory=dict)
 
 
 def _icosphere(level):
-    t = (1 + 5 ** 0.5) / 2
-    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
-         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
-         (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
-         (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    t = (1 + 5**0.5) / 2
+    v = [
+        (-1, t, 0),
+        (1, t, 0),
+        (-1, -t, 0),
+        (1, -t, 0),
+        (0, -1, t),
+        (0, 1, t),
+        (0, -1, -t),
+        (0, 1, -t),
+        (t, 0, -1),
+        (t, 0, 1),
+        (-t, 0, -1),
+        (-t, 0, 1),
+    ]
+    f = [
+        (0, 11, 5),
+        (0, 5, 1),
+        (0, 1, 7),
+        (0, 7, 10),
+        (0, 10, 11),
+        (1, 5, 9),
+        (5, 11, 4),
+        (11, 10, 2),
+        (10, 7, 6),
+        (7, 1, 8),
+        (3, 9, 4),
+        (3, 4, 2),
+        (3, 2, 6),
+        (3, 6, 8),
+        (3, 8, 9),
+        (4, 9, 5),
+        (2, 4, 11),
+        (6, 2, 10),
+        (8, 6, 7),
+        (9, 8, 1),
+    ]
     points = [np.array(p, float) / np.linalg.norm(p) for p in v]
     faces = f
     for _ in range(level):
@@ -57,9 +88,16 @@ def _icosphere(level):
                 middle[key] = len(points) - 1
             return middle[key]
 
-        faces = [g for a, b, c in faces for g in
-                 ((a, mid(a, b), mid(c, a)), (b, mid(b, c), mid(a, b)), (c, mid(c, a), mid(b, c)),
-                  (mid(a, b), mid(b, c), mid(c, a)))]
+        faces = [
+            g
+            for a, b, c in faces
+            for g in (
+                (a, mid(a, b), mid(c, a)),
+                (b, mid(b, c), mid(a, b)),
+                (c, mid(c, a), mid(b, c)),
+                (mid(a, b), mid(b, c), mid(c, a)),
+            )
+        ]
     return np.array(points), np.array(faces, dtype=np.int32)
 
 
@@ -107,7 +145,7 @@ def _rounded_box(rng, faces, alternating):
     cols = max(8, int(round(np.sqrt(faces))))
     rows = max(4, int(round(faces / (2 * cols))) - 1)
     p = rng.uniform(3.0, 10.0)
-    theta = np.linspace(0, np.pi, rows + 3)[1:-1]            # without the poles
+    theta = np.linspace(0, np.pi, rows + 3)[1:-1]  # without the poles
     phi = np.linspace(0, 2 * np.pi, cols, endpoint=False)
     T, P = np.meshgrid(theta, phi, indexing="ij")
 
@@ -115,18 +153,18 @@ def _rounded_box(rng, faces, alternating):
         return np.sign(x) * np.abs(x) ** (2.0 / p)
 
     x, y, z = spow(np.sin(T) * np.cos(P)), spow(np.sin(T) * np.sin(P)), spow(np.cos(T))
-    pts = np.stack([x, y, -z], axis=-1).reshape(-1, 3)      # rows go south -> north
+    pts = np.stack([x, y, -z], axis=-1).reshape(-1, 3)  # rows go south -> north
     pts = np.vstack([pts, [[0, 0, -1.0], [0, 0, 1.0]]])
     pts *= rng.uniform(0.5, 1.5, size=3)
     return pts @ _random_rotation(rng).T, _grid_closed_u(rows, cols, alternating, poles=True)
 
 
 def _torus(rng, faces, alternating):
-    ratio = rng.uniform(0.15, 0.45)                          # tube over ring radius
+    ratio = rng.uniform(0.15, 0.45)  # tube over ring radius
     cols = max(12, int(round(np.sqrt(faces / (2 * ratio)))))
     rows = max(6, int(round(faces / (2 * cols))))
-    u = np.linspace(0, 2 * np.pi, cols, endpoint=False)     # around the ring
-    v = np.linspace(0, 2 * np.pi, rows, endpoint=False)     # around the tube
+    u = np.linspace(0, 2 * np.pi, cols, endpoint=False)  # around the ring
+    v = np.linspace(0, 2 * np.pi, rows, endpoint=False)  # around the tube
     k = rng.integers(1, 4, size=2)
     a = rng.uniform(0.0, 0.3, size=2)
     ph = rng.uniform(0, 2 * np.pi, size=2)
@@ -158,7 +196,7 @@ def _limb(rng, faces, alternating):
     mean_radius = length * rng.uniform(0.06, 0.15)
     cols = max(8, int(round(np.sqrt(faces * np.pi * mean_radius / length))))
     rows = max(6, int(round(faces / (2 * cols))) - 1)
-    cap = mean_radius / length                                # cap length in curve parameter
+    cap = mean_radius / length  # cap length in curve parameter
     s = np.linspace(-cap, 1 + cap, rows + 3)[1:-1]
     along = np.clip(s, 0, 1)
     # Tangent and a parallel-transported frame along the dense curve.
@@ -176,12 +214,13 @@ def _limb(rng, faces, alternating):
     wave = 1.0 + 0.25 * np.sin(2 * np.pi * rng.integers(1, 3) * along + rng.uniform(0, 2 * np.pi))
     # Rounded caps: the radius falls as a quarter circle beyond either end.
     beyond = np.maximum(np.maximum(-s, s - 1), 0) / cap
-    radius = mean_radius * wave * np.sqrt(np.clip(1 - beyond ** 2, 0, 1))
+    radius = mean_radius * wave * np.sqrt(np.clip(1 - beyond**2, 0, 1))
     offset = np.sign(s - 0.5) * np.minimum(beyond, 1) * mean_radius * wave
     phi = np.linspace(0, 2 * np.pi, cols, endpoint=False)
     centre = curve[idx] + tangent[idx] * offset[:, None]
-    ring = (np.cos(phi)[None, :, None] * normals[idx][:, None, :]
-            + np.sin(phi)[None, :, None] * binormals[idx][:, None, :])
+    ring = (
+        np.cos(phi)[None, :, None] * normals[idx][:, None, :] + np.sin(phi)[None, :, None] * binormals[idx][:, None, :]
+    )
     pts = (centre[:, None, :] + radius[:, None, None] * ring).reshape(-1, 3)
     ends = [curve[0] - tangent[0] * mean_radius * wave[0], curve[-1] + tangent[-1] * mean_radius * wave[-1]]
     pts = np.vstack([pts, ends])
@@ -210,8 +249,9 @@ def make(kind, faces=4000, noise=0.0, seed=0, alternating=False):
         clean, triangles = _limb(rng, faces, alternating)
     clean = clean.astype(np.float64)
     triangles = _oriented_outward(clean, triangles)
-    edges = np.unique(np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]],
-                                              triangles[:, [2, 0]]]), axis=1), axis=0)
+    edges = np.unique(
+        np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1), axis=0
+    )
     ae = np.linalg.norm(clean[edges[:, 0]] - clean[edges[:, 1]], axis=1).mean()
     positions = clean + rng.uniform(-1.0, 1.0, clean.shape) * noise * ae
     return ObjectMesh(kind, seed, noise, positions, clean, triangles, {"ae": ae, "alternating": alternating})

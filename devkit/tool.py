@@ -14,8 +14,9 @@ def run_tool(tool, work, positions, triangles):
     src, dst, report = work / "in.obj", work / "out.obj", work / "r.json"
     write_obj(src, positions, triangles)
     start = time.perf_counter()
-    run = subprocess.run([str(tool), str(src), str(dst), "--quiet", "--report", str(report)],
-                         capture_output=True, text=True)
+    run = subprocess.run(
+        [str(tool), str(src), str(dst), "--quiet", "--report", str(report)], capture_output=True, text=True
+    )
     seconds = time.perf_counter() - start
     if run.returncode != 0:
         return run.stderr.strip()[-200:]

@@ -39,16 +39,16 @@ REPO = os.path.dirname(HERE)
 
 def script_args():
     argv = sys.argv
-    return argv[argv.index("--") + 1:] if "--" in argv else []
+    return argv[argv.index("--") + 1 :] if "--" in argv else []
 
 
 def load_addon(module_name=None):
     """Enables the add-on; returns its Python package."""
     import addon_utils
+
     names = [module_name] if module_name else []
     if not module_name:
-        names += [m.__name__ for m in addon_utils.modules()
-                  if m.__name__.split(".")[-1] == "developable_mesh"]
+        names += [m.__name__ for m in addon_utils.modules() if m.__name__.split(".")[-1] == "developable_mesh"]
     for name in names:
         mod = addon_utils.enable(name, default_set=False, persistent=True)
         if mod is not None and hasattr(bpy.types, "MESH_OT_make_developable"):
@@ -91,6 +91,7 @@ def demo_object(kind):
     if REPO not in sys.path:
         sys.path.insert(0, REPO)
     from devkit import blender, meshes
+
     if kind not in meshes.DEMOS:
         raise SystemExit("unknown demo mesh %r (%s)" % (kind, ", ".join(sorted(meshes.DEMOS))))
     clear_scene()
@@ -106,8 +107,8 @@ def import_mesh(path, object_name):
     if ext == ".blend":
         bpy.ops.wm.open_mainfile(filepath=path)
         ob = bpy.data.objects.get(object_name) if object_name else bpy.context.view_layer.objects.active
-        if ob is None or ob.type != 'MESH':
-            ob = next((o for o in bpy.context.scene.objects if o.type == 'MESH'), None)
+        if ob is None or ob.type != "MESH":
+            ob = next((o for o in bpy.context.scene.objects if o.type == "MESH"), None)
     else:
         clear_scene()
         if ext == ".obj":
@@ -118,7 +119,7 @@ def import_mesh(path, object_name):
             _first_available("wm.stl_import", "import_mesh.stl")(filepath=path)
         else:
             raise SystemExit("unsupported input format %s" % ext)
-        meshes = [o for o in bpy.context.scene.objects if o.type == 'MESH']
+        meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
         ob = meshes[0] if meshes else None
     if ob is None:
         raise SystemExit("no mesh object in %s" % path)
@@ -159,9 +160,11 @@ def export(ob, path):
 def render_before_after(ob, prefix, addon):
     """Two Workbench renders coloured by the defect (same colour scale)."""
     from mathutils import Vector
+
     if REPO not in sys.path:
         sys.path.insert(0, REPO)
     from devkit.blender import workbench_scene
+
     scene = bpy.context.scene
     workbench_scene(scene, 1024, 768, (0.05, 0.05, 0.06))
 
@@ -169,18 +172,18 @@ def render_before_after(ob, prefix, addon):
     centre = sum(corners, Vector()) / 8.0
     size = max((max(c[i] for c in corners) - min(c[i] for c in corners)) for i in range(3))
     cam_data = bpy.data.cameras.new("Developable Camera")
-    cam_data.type = 'ORTHO'
+    cam_data.type = "ORTHO"
     cam_data.ortho_scale = size * 1.45
     cam = bpy.data.objects.new("Developable Camera", cam_data)
     scene.collection.objects.link(cam)
     direction = Vector((0.9, -1.3, 1.0)).normalized()
     cam.location = centre + direction * size * 3.0
-    cam.rotation_euler = (-direction).to_track_quat('-Z', 'Y').to_euler()
+    cam.rotation_euler = (-direction).to_track_quat("-Z", "Y").to_euler()
     cam_data.clip_end = size * 10.0
     scene.camera = cam
 
     rec = ob.developable
-    txt_data = bpy.data.curves.new("Developable Legend", 'FONT')
+    txt_data = bpy.data.curves.new("Developable Legend", "FONT")
     txt_data.size = cam_data.ortho_scale * 0.028
     txt = bpy.data.objects.new("Developable Legend", txt_data)
     scene.collection.objects.link(txt)
@@ -198,9 +201,11 @@ def render_before_after(ob, prefix, addon):
         kb.value = 1.0 if after else 0.0
         rec.show_after = after
         e = rec.e_after if after else rec.e_before
-        txt_data.body = ("%s: mean |angle defect| E = %.3g rad\n"
-                         "colour: blue -%.3g .. white 0 .. red +%.3g rad (same scale both)"
-                         % (label.capitalize(), e, rec.colour_scale, rec.colour_scale))
+        txt_data.body = (
+            "%s: mean |angle defect| E = %.3g rad\n"
+            "colour: blue -%.3g .. white 0 .. red +%.3g rad (same scale both)"
+            % (label.capitalize(), e, rec.colour_scale, rec.colour_scale)
+        )
         scene.render.filepath = os.path.abspath("%s_%s.png" % (prefix, label))
         bpy.ops.render.render(write_still=True)
         paths.append(scene.render.filepath)
@@ -214,27 +219,49 @@ def render_before_after(ob, prefix, addon):
 
 def build_parser(addon):
     props = addon.properties
-    p = argparse.ArgumentParser(prog="blender -b -P batch_developable.py --",
-                                description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="blender -b -P batch_developable.py --", description=__doc__.split("\n\n")[0])
     p.add_argument("input")
     p.add_argument("output")
     p.add_argument("--object", default="", help="object name in a .blend input")
-    p.add_argument("--render", default="", metavar="PREFIX",
-                   help="write PREFIX_before.png / PREFIX_after.png")
+    p.add_argument("--render", default="", metavar="PREFIX", help="write PREFIX_before.png / PREFIX_after.png")
     p.add_argument("--addon-module", default="", help=argparse.SUPPRESS)
-    p.add_argument("--pattern", default="", metavar="OUT.svg",
-                   help="unfold the result into flat pieces and write them as SVG sheets")
+    p.add_argument(
+        "--pattern",
+        default="",
+        metavar="OUT.svg",
+        help="unfold the result into flat pieces and write them as SVG sheets",
+    )
     p.add_argument("--sheet", default="a4", help="pattern sheet: a4, a3, letter or WxH in mm")
-    p.add_argument("--pattern-scale", default="1", metavar="X|auto",
-                   help="paper length per model length (1 = 1:1) or auto")
-    p.add_argument("--unit", default="scene", choices=["scene", "m", "cm", "mm", "in"],
-                   help="what one Blender unit is (default: the scene's unit scale)")
-    p.add_argument("--seam-tolerance", type=float, default=None, metavar="PERCENT",
-                   help="largest stretch of a piece's outline edge before it is split")
-    p.add_argument("--seam-allowance", type=float, default=None, metavar="MM",
-                   help="cut every piece this far outside its outline on the sheet (sewing, gluing)")
-    p.add_argument("--glue-tabs", type=float, default=None, metavar="MM",
-                   help="a glue tab this high on one side of every seam (papercraft)")
+    p.add_argument(
+        "--pattern-scale", default="1", metavar="X|auto", help="paper length per model length (1 = 1:1) or auto"
+    )
+    p.add_argument(
+        "--unit",
+        default="scene",
+        choices=["scene", "m", "cm", "mm", "in"],
+        help="what one Blender unit is (default: the scene's unit scale)",
+    )
+    p.add_argument(
+        "--seam-tolerance",
+        type=float,
+        default=None,
+        metavar="PERCENT",
+        help="largest stretch of a piece's outline edge before it is split",
+    )
+    p.add_argument(
+        "--seam-allowance",
+        type=float,
+        default=None,
+        metavar="MM",
+        help="cut every piece this far outside its outline on the sheet (sewing, gluing)",
+    )
+    p.add_argument(
+        "--glue-tabs",
+        type=float,
+        default=None,
+        metavar="MM",
+        help="a glue tab this high on one side of every seam (papercraft)",
+    )
     defs = props.all_property_definitions()
     for name, prop in defs.items():
         kw = prop.keywords if hasattr(prop, "keywords") else prop[1]
@@ -289,9 +316,15 @@ def unfold_pattern(ob, args):
         print(str(exc).strip())
         return {"error": str(exc).strip()}
     rec = ob.developable_pattern
-    return {"pieces": rec.pieces, "sheets": rec.sheets, "seams": rec.seams,
-            "worst_strain_percent": rec.worst_strain, "mean_strain_percent": rec.mean_strain,
-            "scale": rec.scale, "files": rec.files.split("; ") if rec.files else []}
+    return {
+        "pieces": rec.pieces,
+        "sheets": rec.sheets,
+        "seams": rec.seams,
+        "worst_strain_percent": rec.worst_strain,
+        "mean_strain_percent": rec.mean_strain,
+        "scale": rec.scale,
+        "files": rec.files.split("; ") if rec.files else [],
+    }
 
 
 def main():
@@ -311,25 +344,51 @@ def main():
     if not hasattr(bpy.types, "MESH_OT_make_developable"):
         addon = load_addon(known.addon_module or None)
     options = {n: getattr(args, n) for n in names if getattr(args, n) is not None}
-    if bpy.context.object is not None and bpy.context.object.mode != 'OBJECT':
-        bpy.ops.object.mode_set(mode='OBJECT')
+    if bpy.context.object is not None and bpy.context.object.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
     try:
         result = bpy.ops.mesh.make_developable(**options)
         error = ""
     except RuntimeError as exc:  # the operator's ERROR report (bad mesh, no library)
-        result, error = {'CANCELLED'}, str(exc).strip()
+        result, error = {"CANCELLED"}, str(exc).strip()
         print(error)
-    summary = {"input": args.input, "output": args.output, "object": ob.name,
-               "operator": sorted(result), "error": error}
-    if 'FINISHED' not in result:
+    summary = {
+        "input": args.input,
+        "output": args.output,
+        "object": ob.name,
+        "operator": sorted(result),
+        "error": error,
+    }
+    if "FINISHED" not in result:
         print("DEVELOPABLE_RESULT " + json.dumps(summary))
         sys.stdout.flush()
         raise SystemExit(1)
     rec = ob.developable
-    summary.update({k: getattr(rec, k) for k in (
-        "e_before", "e_after", "change_percent", "time_ms", "iterations", "max_move",
-        "patches", "curves", "pinned", "colour_scale", "stop_reason", "flat_before", "flat_after",
-        "move_percent", "faces_turned", "verdict", "message", "engine_result")})
+    summary.update(
+        {
+            k: getattr(rec, k)
+            for k in (
+                "e_before",
+                "e_after",
+                "change_percent",
+                "time_ms",
+                "iterations",
+                "max_move",
+                "patches",
+                "curves",
+                "pinned",
+                "colour_scale",
+                "stop_reason",
+                "flat_before",
+                "flat_after",
+                "move_percent",
+                "faces_turned",
+                "verdict",
+                "message",
+                "engine_result",
+            )
+        }
+    )
     if args.pattern:
         summary["pattern"] = unfold_pattern(ob, args)
         if "error" in summary["pattern"]:

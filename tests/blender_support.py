@@ -35,8 +35,7 @@ BLENDER = shutil.which("blender")
 
 
 BPY_MAIN = SCRIPTS / "bpy_main.py"
-BPY_CACHE = pathlib.Path(os.environ.get("DEVELOPABLE_BPY_CACHE",
-                                        pathlib.Path.home() / ".cache" / "developable"))
+BPY_CACHE = pathlib.Path(os.environ.get("DEVELOPABLE_BPY_CACHE", pathlib.Path.home() / ".cache" / "developable"))
 MODULE_PYTHON = "DEVELOPABLE_TEST_BPY_PYTHON"  # env key: run this bpy module's Python
 
 
@@ -45,7 +44,7 @@ def module_blenders():
     found = {}
     for env in sorted(BPY_CACHE.glob("bpy-*")):
         if list(env.glob(".installed-*")) and (env / "bin" / "python").exists():
-            found[env.name[len("bpy-"):]] = env / "bin" / "python"
+            found[env.name[len("bpy-") :]] = env / "bin" / "python"
     return found
 
 
@@ -70,13 +69,24 @@ def run_blender(args, env, timeout=300, xvfb=False, check=True):
         # starts its search elsewhere (gw0 at xvfb-run's usual 99, gw1 at 149 ...)
         worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")
         first = 99 + 50 * int(worker[2:]) if worker[2:].isdigit() else 99
-        cmd = ["xvfb-run", "-n", str(first), "-a", "-s", "-screen 0 1280x800x24", BLENDER,
-               "--factory-startup", "--python-exit-code", "1"] + list(args)
+        cmd = [
+            "xvfb-run",
+            "-n",
+            str(first),
+            "-a",
+            "-s",
+            "-screen 0 1280x800x24",
+            BLENDER,
+            "--factory-startup",
+            "--python-exit-code",
+            "1",
+        ] + list(args)
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
     if check and proc.returncode != 0:
-        raise AssertionError("blender failed (%d)\ncmd: %s\nstdout:\n%s\nstderr:\n%s"
-                             % (proc.returncode, " ".join(map(str, cmd)), proc.stdout[-6000:],
-                                proc.stderr[-6000:]))
+        raise AssertionError(
+            "blender failed (%d)\ncmd: %s\nstdout:\n%s\nstderr:\n%s"
+            % (proc.returncode, " ".join(map(str, cmd)), proc.stdout[-6000:], proc.stderr[-6000:])
+        )
     return proc
 
 
@@ -85,7 +95,7 @@ def results(proc):
     out = []
     for line in proc.stdout.splitlines():
         if line.startswith("RESULT "):
-            out.append(json.loads(line[len("RESULT "):]))
+            out.append(json.loads(line[len("RESULT ") :]))
     return out
 
 
@@ -95,7 +105,10 @@ def scenario(env, name, *extra, xvfb=False, timeout=300):
     proc = run_blender(args, env, timeout=timeout, xvfb=xvfb)
     res = results(proc)
     assert res, "scenario %s printed no RESULT\nstdout:\n%s\nstderr:\n%s" % (
-        name, proc.stdout[-6000:], proc.stderr[-4000:])
+        name,
+        proc.stdout[-6000:],
+        proc.stderr[-4000:],
+    )
     assert "traceback" not in proc.stderr.lower(), proc.stderr[-4000:]
     return res[-1]
 
@@ -106,7 +119,11 @@ def several(env, *specs, timeout=600):
     proc = run_blender(["--python", str(SCENARIOS), "--", "several", *specs], env, timeout=timeout)
     res = results(proc)
     assert len(res) == len(specs), "scenarios %s printed %d RESULTs\nstdout:\n%s\nstderr:\n%s" % (
-        specs, len(res), proc.stdout[-6000:], proc.stderr[-4000:])
+        specs,
+        len(res),
+        proc.stdout[-6000:],
+        proc.stderr[-4000:],
+    )
     assert "traceback" not in proc.stderr.lower(), proc.stderr[-4000:]
     return dict(zip(specs, res))
 
@@ -118,8 +135,9 @@ def build_addon_zip(build_dir, into):
     its own copy, which another session's build cannot replace meanwhile."""
     with open(pathlib.Path(build_dir) / "addon_zip.lock", "a") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
-        subprocess.run(["cmake", "--build", str(build_dir), "--target", "addon_zip"],
-                       check=True, capture_output=True, text=True)
+        subprocess.run(
+            ["cmake", "--build", str(build_dir), "--target", "addon_zip"], check=True, capture_output=True, text=True
+        )
         zips = sorted(pathlib.Path(build_dir, "dist").glob(MODULE + "-*.zip"))
         assert len(zips) == 1, "expected one zip in build/dist, found %s" % zips
         return pathlib.Path(shutil.copy2(zips[0], pathlib.Path(into) / zips[0].name))
@@ -132,10 +150,12 @@ def install_zip(zip_path, root):
     env["BLENDER_USER_CONFIG"] = str(root / "config")
     (root / "scripts").mkdir(parents=True, exist_ok=True)
     (root / "config").mkdir(parents=True, exist_ok=True)
-    code = ("import bpy, sys\n"
-            "bpy.ops.preferences.addon_install(filepath=sys.argv[-1], overwrite=True)\n"
-            "bpy.ops.preferences.addon_enable(module=%r)\n"
-            "bpy.ops.wm.save_userpref()\n" % MODULE)
+    code = (
+        "import bpy, sys\n"
+        "bpy.ops.preferences.addon_install(filepath=sys.argv[-1], overwrite=True)\n"
+        "bpy.ops.preferences.addon_enable(module=%r)\n"
+        "bpy.ops.wm.save_userpref()\n" % MODULE
+    )
     run_blender(["--python-expr", code, "--", str(zip_path)], env)
     return env
 
@@ -147,29 +167,35 @@ def install_extension(zip_path, root, python):
     env["BLENDER_USER_RESOURCES"] = str(root)
     env[MODULE_PYTHON] = str(python)
     root.mkdir(parents=True, exist_ok=True)
-    code = ("import bpy, sys\n"
-            "r = bpy.ops.extensions.package_install_files(filepath=sys.argv[-1], "
-            "repo='user_default', enable_on_install=True)\n"
-            "assert r == {'FINISHED'}, r\n"
-            "assert hasattr(bpy.types, 'MESH_OT_make_developable')\n"
-            "import os, sys; sys.stdout.flush(); os._exit(0)  # see bpy_main.py\n")
-    proc = subprocess.run([str(python), "-c", code, str(zip_path)], env=env,
-                          capture_output=True, text=True, timeout=300)
+    code = (
+        "import bpy, sys\n"
+        "r = bpy.ops.extensions.package_install_files(filepath=sys.argv[-1], "
+        "repo='user_default', enable_on_install=True)\n"
+        "assert r == {'FINISHED'}, r\n"
+        "assert hasattr(bpy.types, 'MESH_OT_make_developable')\n"
+        "import os, sys; sys.stdout.flush(); os._exit(0)  # see bpy_main.py\n"
+    )
+    proc = subprocess.run(
+        [str(python), "-c", code, str(zip_path)], env=env, capture_output=True, text=True, timeout=300
+    )
     if proc.returncode != 0:
-        raise AssertionError("extension install failed\n%s\n%s" % (proc.stdout[-4000:],
-                                                                      proc.stderr[-4000:]))
+        raise AssertionError("extension install failed\n%s\n%s" % (proc.stdout[-4000:], proc.stderr[-4000:]))
     return env
 
 
 def validate_manifest(zip_path, python):
     """That Blender's own extension validator (bl_pkg's blender_ext.py validate)
     on the zip: (return code, output)."""
-    found = list(pathlib.Path(python).parent.parent.glob(
-        "lib/python3*/site-packages/bpy/*/scripts/addons_core/bl_pkg/cli/blender_ext.py"))
+    found = list(
+        pathlib.Path(python).parent.parent.glob(
+            "lib/python3*/site-packages/bpy/*/scripts/addons_core/bl_pkg/cli/blender_ext.py"
+        )
+    )
     if not found:
         return None, "no blender_ext.py"
-    proc = subprocess.run([str(python), str(found[0]), "validate", str(zip_path)],
-                          capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [str(python), str(found[0]), "validate", str(zip_path)], capture_output=True, text=True, timeout=120
+    )
     return proc.returncode, proc.stdout + proc.stderr
 
 

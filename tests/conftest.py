@@ -11,13 +11,13 @@ import pytest
 REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))  # devkit
 
-from devkit import paths  # noqa: E402
-from devkit.binding import native  # noqa: E402
+from devkit import paths
+from devkit.binding import native
+
 # The add-on tests' session fixtures, defined once here for every module (a
 # module importing them itself would get its own instances: one zip build and
 # one set of Blender installs per module instead of per session).
-from blender_support import (addon_zip, any_blender_env, blender_env,  # noqa: E402,F401
-                             built_zip, installed_addon_dir)
+from blender_support import addon_zip, any_blender_env, blender_env, built_zip, installed_addon_dir  # noqa: F401
 
 
 @pytest.fixture(scope="session")
@@ -66,12 +66,14 @@ def meshes_dir():
 # The longest units go first (FIRST: the ASan run of test_hardening.py and
 # the fuzz run take about a minute each), so that no worker is left alone
 # with one of them at the end.
-FIRST = ("test_hardening_sanitizers.py::test_engine_suite_under_asan_and_ubsan[tests/test_hardening.py]",
-         "test_hardening_sanitizers.py::test_fuzz_for_a_minute",  # 60 s on one core
-         "test_hardening.py::test_two_million_faces_work_or_are_refused_cleanly",
-         "test_hardening_sanitizers.py",  # the other engine files under ASan
-         "test_families.py",
-         "test_pattern.py")              # rasterising the human figure's sheets
+FIRST = (
+    "test_hardening_sanitizers.py::test_engine_suite_under_asan_and_ubsan[tests/test_hardening.py]",
+    "test_hardening_sanitizers.py::test_fuzz_for_a_minute",  # 60 s on one core
+    "test_hardening.py::test_two_million_faces_work_or_are_refused_cleanly",
+    "test_hardening_sanitizers.py",  # the other engine files under ASan
+    "test_families.py",
+    "test_pattern.py",
+)  # rasterising the human figure's sheets
 
 
 def _group(item):
@@ -91,8 +93,7 @@ def _group(item):
 
 def _rank(item):
     """Where the test's unit is in FIRST (a module, a test or one of its parameters)."""
-    names = (item.path.name, "%s::%s" % (item.path.name, item.originalname),
-             "%s::%s" % (item.path.name, item.name))
+    names = (item.path.name, "%s::%s" % (item.path.name, item.originalname), "%s::%s" % (item.path.name, item.name))
     for i, first in enumerate(FIRST):
         if first in names:
             return i

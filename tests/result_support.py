@@ -37,5 +37,7 @@ def check_honest(positions, triangles, result):
     else:
         assert s["result"] == native.RESULT_IMPROVED and s["unchanged_reason"] == native.UNCHANGED_NONE
         # A gain the user sees, not rounding (the engine's kLeastGain).
-        assert s["mean_defect_after"] < (1 - 1e-6) * s["mean_defect_before"] or \
-            s["flat_share_after"] > s["flat_share_before"]
+        assert (
+            s["mean_defect_after"] < (1 - 1e-6) * s["mean_defect_before"]
+            or s["flat_share_after"] > s["flat_share_before"]
+        )

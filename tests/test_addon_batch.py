@@ -2,22 +2,33 @@
 import json
 import subprocess
 
-from blender_support import BLENDER, REPO, results, run_blender
+from blender_support import BLENDER, REPO, run_blender
 
 BATCH = REPO / "scripts" / "batch_developable.py"
 
 
 def _batch(env, *args):
     proc = run_blender(["-P", str(BATCH), "--"] + [str(a) for a in args], env, check=False)
-    lines = [json.loads(l.split(" ", 1)[1]) for l in proc.stdout.splitlines()
-             if l.startswith("DEVELOPABLE_RESULT ")]
+    lines = [
+        json.loads(line.split(" ", 1)[1]) for line in proc.stdout.splitlines() if line.startswith("DEVELOPABLE_RESULT ")
+    ]
     return proc, (lines[-1] if lines else None)
 
 
 def test_batch_demo_to_obj_to_ply_to_blend(blender_env, tmp_path):
     obj = tmp_path / "sheet.obj"
-    proc, r = _batch(blender_env, "demo:half_cylinder", obj, "--pin-boundary", "--omega", 7,
-                     "--mode", "PAPER", "--max-iterations", 20)
+    proc, r = _batch(
+        blender_env,
+        "demo:half_cylinder",
+        obj,
+        "--pin-boundary",
+        "--omega",
+        7,
+        "--mode",
+        "PAPER",
+        "--max-iterations",
+        20,
+    )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     assert r["operator"] == ["FINISHED"] and r["e_after"] < r["e_before"]
     assert obj.exists() and obj.stat().st_size > 0
@@ -46,10 +57,17 @@ def test_one_liner_on_a_blend(blender_env, tmp_path):
     proc, r = _batch(blender_env, "demo:cone_band", blend)
     assert proc.returncode == 0, proc.stdout[-3000:]
     # the add-on enabled in the (private) preferences, as a user would have it
-    cmd = [BLENDER, "-b", str(blend), "--python-exit-code", "1", "--python-expr",
-           "import bpy; bpy.context.view_layer.objects.active = bpy.data.objects['cone_band']; "
-           "bpy.ops.mesh.make_developable(); "
-           "print('KEYS', [k.name for k in bpy.data.objects['cone_band'].data.shape_keys.key_blocks])"]
+    cmd = [
+        BLENDER,
+        "-b",
+        str(blend),
+        "--python-exit-code",
+        "1",
+        "--python-expr",
+        "import bpy; bpy.context.view_layer.objects.active = bpy.data.objects['cone_band']; "
+        "bpy.ops.mesh.make_developable(); "
+        "print('KEYS', [k.name for k in bpy.data.objects['cone_band'].data.shape_keys.key_blocks])",
+    ]
     proc = subprocess.run(cmd, env=blender_env, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     assert "KEYS ['Basis', 'Developable']" in proc.stdout

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 spec = importlib.util.spec_from_file_location(
-    "addon_checks", pathlib.Path(__file__).resolve().parents[1] / "addon" / "checks.py")
+    "addon_checks", pathlib.Path(__file__).resolve().parents[1] / "addon" / "checks.py"
+)
 checks = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(checks)
 
@@ -35,7 +36,7 @@ def test_a_triangle_lying_on_a_quad_is_dropped_and_identical_faces_are_kept(seed
     p, quads, tris, poly = grid(seed=seed)
     rng = np.random.default_rng(seed)
     q = int(rng.integers(len(quads)))
-    polygons = [tuple(f) for f in quads] + [tuple(quads[q][[0, 1, 2]])]   # a triangle on quad q
+    polygons = [tuple(f) for f in quads] + [tuple(quads[q][[0, 1, 2]])]  # a triangle on quad q
     t2 = np.vstack([tris, quads[q][[0, 1, 2]]])
     p2 = np.append(poly, len(quads))
     out, out_poly, dropped = checks.drop_shared_triangles(t2, p2, vertex_sets(polygons))
@@ -59,7 +60,7 @@ def test_bad_edges_find_every_fin_and_every_flipped_neighbour():
     t = tris.copy()
     t[3] = t[3][::-1]
     many, flipped = checks.bad_edges(t)
-    assert len(many) == 0 and len(flipped) == 3   # the flipped triangle's three edges
+    assert len(many) == 0 and len(flipped) == 3  # the flipped triangle's three edges
 
 
 def test_degenerate_triangles_are_those_the_engine_refuses():
@@ -73,7 +74,7 @@ def test_degenerate_triangles_are_those_the_engine_refuses():
 def test_figures_of_a_result():
     p, _, tris, _ = grid(noise=0.1, seed=4)
     after = p.copy()
-    after[:, 2] = 0.0                                 # flattened
+    after[:, 2] = 0.0  # flattened
     interior = np.zeros(len(p), dtype=bool)
     interior[[7, 8, 12, 13]] = True
     d_before = np.full(len(p), 0.01)
@@ -83,17 +84,23 @@ def test_figures_of_a_result():
     assert f["flat_before"] == 0.0 and f["flat_after"] == 1.0
     assert f["move_percent"] == pytest.approx(100 * np.abs(p[:, 2]).max() / size)
     assert f["faces_turned"] == 0
-    assert not f["closed"]                            # a grid has a boundary
+    assert not f["closed"]  # a grid has a boundary
     mirrored = p.copy()
     mirrored[:, 2] *= -1
-    mirrored[:, 0] *= -1                              # every face turned over
+    mirrored[:, 0] *= -1  # every face turned over
     assert checks.figures(p, mirrored, tris, interior, d_before, d_after)["faces_turned"] == len(tris)
 
 
-STATS = {"mean_defect_before": 0.01, "mean_defect_after": 0.002, "change_percent": -80.0,
-         "max_defect_before": 0.05, "max_defect_after": 0.01, "time_total_ms": 12.0, "stop_reason": 3}
-FIG = {"flat_before": 0.1, "flat_after": 0.6, "move_percent": 1.5, "faces_turned": 0,
-       "max_move": 0.02, "size": 1.0}
+STATS = {
+    "mean_defect_before": 0.01,
+    "mean_defect_after": 0.002,
+    "change_percent": -80.0,
+    "max_defect_before": 0.05,
+    "max_defect_after": 0.01,
+    "time_total_ms": 12.0,
+    "stop_reason": 3,
+}
+FIG = {"flat_before": 0.1, "flat_after": 0.6, "move_percent": 1.5, "faces_turned": 0, "max_move": 0.02, "size": 1.0}
 
 
 def test_an_improvement_is_info():
@@ -102,21 +109,25 @@ def test_an_improvement_is_info():
     assert "flat 10 % \u2192 60 %" in message and "1.5 % of its size" in message
 
 
-@pytest.mark.parametrize("change, fig, words", [
-    ({"mean_defect_after": 0.0104, "change_percent": 4.4}, {}, "curvature grew (+4.4 %)"),
-    ({}, {"flat_after": 0.05}, "fewer vertices are flat"),
-    ({}, {"faces_turned": 3}, "3 faces turned over"),
-    # the engine's own warning: its mean fell, but its curvature gathered
-    ({"max_defect_before": 3.73, "max_defect_after": 8.4}, {}, "largest curvature grew (3.73 → 8.4 rad)"),
-])
+@pytest.mark.parametrize(
+    "change, fig, words",
+    [
+        ({"mean_defect_after": 0.0104, "change_percent": 4.4}, {}, "curvature grew (+4.4 %)"),
+        ({}, {"flat_after": 0.05}, "fewer vertices are flat"),
+        ({}, {"faces_turned": 3}, "3 faces turned over"),
+        # the engine's own warning: its mean fell, but its curvature gathered
+        ({"max_defect_before": 3.73, "max_defect_after": 8.4}, {}, "largest curvature grew (3.73 → 8.4 rad)"),
+    ],
+)
 def test_a_worse_figure_is_a_warning_with_what_to_try(change, fig, words):
     level, verdict, message = checks.verdict("torus", dict(STATS, **change), dict(FIG, **fig))
     assert (level, verdict) == ("WARNING", "WORSE")
     assert words in message and "Try" in message and "at 0" in message
 
 
-@pytest.mark.parametrize("closed, why", [(True, "a closed surface keeps its total curvature"),
-                                         (False, "gave up gathered on fewer others")])
+@pytest.mark.parametrize(
+    "closed, why", [(True, "a closed surface keeps its total curvature"), (False, "gave up gathered on fewer others")]
+)
 def test_gathered_curvature_is_explained_for_closed_and_open_meshes(closed, why):
     stats = dict(STATS, max_defect_before=0.005, max_defect_after=0.006)
     level, verdict, message = checks.verdict("elbow", stats, dict(FIG, closed=closed))
@@ -124,27 +135,39 @@ def test_gathered_curvature_is_explained_for_closed_and_open_meshes(closed, why)
 
 
 def unchanged_reasons():
-    """DEV_UNCHANGED_* of native/developable.h: {name: value}."""
-    header = (pathlib.Path(__file__).resolve().parents[1] / "native" / "developable.h").read_text()
+    """DEV_UNCHANGED_* of native/api/developable.h: {name: value}."""
+    header = (pathlib.Path(__file__).resolve().parents[1] / "native" / "api" / "developable.h").read_text()
     return {name: int(value) for name, value in re.findall(r"DEV_UNCHANGED_(\w+) = (\d+)", header)}
 
 
 def test_the_reasons_with_nothing_to_do_are_the_engines():
     reasons = unchanged_reasons()
     assert len(reasons) == 7
-    assert set(checks.NOTHING_TO_DO) == {reasons["ALREADY_DEVELOPABLE"], reasons["DEVELOPABLE_PIECEWISE"],
-                                         reasons["ALREADY_FLAT"]}
+    assert set(checks.NOTHING_TO_DO) == {
+        reasons["ALREADY_DEVELOPABLE"],
+        reasons["DEVELOPABLE_PIECEWISE"],
+        reasons["ALREADY_FLAT"],
+    }
 
 
-@pytest.mark.parametrize("reason, words", [
-    ("ALREADY_DEVELOPABLE", "it is already developable."),
-    ("DEVELOPABLE_PIECEWISE", "already developable piecewise"),
-    ("ALREADY_FLAT", "every vertex is already flat"),
-])
+@pytest.mark.parametrize(
+    "reason, words",
+    [
+        ("ALREADY_DEVELOPABLE", "it is already developable."),
+        ("DEVELOPABLE_PIECEWISE", "already developable piecewise"),
+        ("ALREADY_FLAT", "every vertex is already flat"),
+    ],
+)
 def test_an_already_developable_mesh_is_an_info_without_advice(reason, words):
     # The engine's message is not read: its wording may change.
-    stats = dict(STATS, result=1, unchanged_reason=unchanged_reasons()[reason], result_message="",
-                 mean_defect_after=0.01, change_percent=0.0)
+    stats = dict(
+        STATS,
+        result=1,
+        unchanged_reason=unchanged_reasons()[reason],
+        result_message="",
+        mean_defect_after=0.01,
+        change_percent=0.0,
+    )
     level, verdict, message = checks.verdict("pipe", stats, dict(FIG, max_move=0.0))
     assert (level, verdict) == ("INFO", "DEVELOPABLE")
     assert "nothing to do" in message and words in message and "Try" not in message
@@ -152,9 +175,14 @@ def test_an_already_developable_mesh_is_an_info_without_advice(reason, words):
 
 @pytest.mark.parametrize("reason", ["NO_VISIBLE_GAIN", "NO_BETTER_ITERATE", "REJECTED"])
 def test_nothing_changed_is_a_warning_with_the_engines_reason(reason):
-    stats = dict(STATS, result=1, unchanged_reason=unchanged_reasons()[reason],
-                 result_message="Returned the input unchanged: no iterate lowered its curvature.",
-                 mean_defect_after=0.01, change_percent=0.0)
+    stats = dict(
+        STATS,
+        result=1,
+        unchanged_reason=unchanged_reasons()[reason],
+        result_message="Returned the input unchanged: no iterate lowered its curvature.",
+        mean_defect_after=0.01,
+        change_percent=0.0,
+    )
     level, verdict, message = checks.verdict("torus", stats, dict(FIG, max_move=0.0))
     assert (level, verdict) == ("WARNING", "UNCHANGED")
     assert message.startswith("torus: nothing changed. Try")

@@ -52,8 +52,8 @@ def test_rerun_replaces_the_one_shape_key(shared):
     assert r["results"] == [["FINISHED"]] * 3
     assert r["keys"] == ["Basis", "Developable"]
     assert r["base_unchanged"]
-    assert r["second_differs"] > 1e-4        # other parameters, other coordinates
-    assert r["third_repeats"] < 1e-5         # same parameters as the first: same result
+    assert r["second_differs"] > 1e-4  # other parameters, other coordinates
+    assert r["third_repeats"] < 1e-5  # same parameters as the first: same result
 
 
 @pytest.mark.parametrize("cancel_after", [0, 3])
@@ -121,13 +121,13 @@ def test_abi_mismatch_is_reported(addon_without_library, tmp_path):
     if compiler is None:
         pytest.skip("no C compiler to build a fake library")
     src = tmp_path / "fake.c"
-    src.write_text('int dev_abi_version(void) { return 999; }\n')
+    src.write_text("int dev_abi_version(void) { return 999; }\n")
     lib = tmp_path / "libdevelopable.so"
     subprocess.run([compiler, "-shared", "-fPIC", "-x", "c", str(src), "-o", str(lib)], check=True)
     env = dict(addon_without_library, DEVELOPABLE_LIBRARY=str(lib))
     r = scenario(env, "expect_error")
     assert r["result"] == ["CANCELLED"]
-    header = (pathlib.Path(__file__).resolve().parents[1] / "native" / "developable.h").read_text()
+    header = (pathlib.Path(__file__).resolve().parents[1] / "native" / "api" / "developable.h").read_text()
     needed = re.search(r"#define DEV_ABI_VERSION (\d+)", header).group(1)
     assert "ABI version 999" in r["error"] and "needs %s" % needed in r["error"], r["error"]
     assert r["state_after"] == r["state_before"]

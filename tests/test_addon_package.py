@@ -14,8 +14,9 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     tomllib = None
 
-SYSTEM_LIBS = re.compile(r"^(linux-vdso|ld-linux|libc\.so|libm\.so|libstdc\+\+\.so|libgcc_s\.so|"
-                         r"libpthread\.so|libdl\.so)")
+SYSTEM_LIBS = re.compile(
+    r"^(linux-vdso|ld-linux|libc\.so|libm\.so|libstdc\+\+\.so|libgcc_s\.so|" r"libpthread\.so|libdl\.so)"
+)
 
 
 @pytest.fixture(scope="module")
@@ -29,23 +30,75 @@ def manifest():
 # The rules of Blender's extension manifest, schema 1.0.0 (Blender 4.2+,
 # docs.blender.org/manual/en/latest/advanced/extensions/getting_started.html),
 # as its own validation (`blender --command extension validate`) applies them.
-REQUIRED_KEYS = {"schema_version", "id", "version", "name", "tagline", "maintainer", "type",
-                 "blender_version_min", "license"}
-OPTIONAL_KEYS = {"website", "tags", "blender_version_max", "copyright", "platforms", "wheels",
-                 "permissions", "build"}
-SEMVER = re.compile(r"(0|[1-9]\d*)\.(0|[1-9]\d*)\.(0|[1-9]\d*)"
-                    r"(?:-[0-9A-Za-z-]+(?:\.[0-9A-Za-z-]+)*)?(?:\+[0-9A-Za-z-]+(?:\.[0-9A-Za-z-]+)*)?")
+REQUIRED_KEYS = {
+    "schema_version",
+    "id",
+    "version",
+    "name",
+    "tagline",
+    "maintainer",
+    "type",
+    "blender_version_min",
+    "license",
+}
+OPTIONAL_KEYS = {"website", "tags", "blender_version_max", "copyright", "platforms", "wheels", "permissions", "build"}
+SEMVER = re.compile(
+    r"(0|[1-9]\d*)\.(0|[1-9]\d*)\.(0|[1-9]\d*)"
+    r"(?:-[0-9A-Za-z-]+(?:\.[0-9A-Za-z-]+)*)?(?:\+[0-9A-Za-z-]+(?:\.[0-9A-Za-z-]+)*)?"
+)
 PLATFORMS = {"windows-x64", "windows-arm64", "macos-x64", "macos-arm64", "linux-x64"}
-ADDON_TAGS = {"3D View", "Add Curve", "Add Mesh", "Animation", "Bake", "Camera", "Compositing",
-              "Development", "Game Engine", "Geometry Nodes", "Grease Pencil", "Import-Export",
-              "Lighting", "Material", "Modeling", "Mesh", "Node", "Object", "Paint", "Pipeline",
-              "Physics", "Render", "Rigging", "Scene", "Sculpt", "Sequencer", "System",
-              "Text Editor", "Tracking", "User Interface", "UV"}
+ADDON_TAGS = {
+    "3D View",
+    "Add Curve",
+    "Add Mesh",
+    "Animation",
+    "Bake",
+    "Camera",
+    "Compositing",
+    "Development",
+    "Game Engine",
+    "Geometry Nodes",
+    "Grease Pencil",
+    "Import-Export",
+    "Lighting",
+    "Material",
+    "Modeling",
+    "Mesh",
+    "Node",
+    "Object",
+    "Paint",
+    "Pipeline",
+    "Physics",
+    "Render",
+    "Rigging",
+    "Scene",
+    "Sculpt",
+    "Sequencer",
+    "System",
+    "Text Editor",
+    "Tracking",
+    "User Interface",
+    "UV",
+}
 # SPDX identifiers of the licences the Extensions Platform accepts for add-ons
 # (GPL-compatible, since add-ons link against Blender's GPL Python API).
-LICENSES = {"GPL-2.0-or-later", "GPL-3.0-or-later", "LGPL-2.1-or-later", "LGPL-3.0-or-later",
-            "MIT", "MIT-0", "BSD-2-Clause", "BSD-3-Clause", "Apache-2.0", "MPL-2.0", "Zlib",
-            "BSL-1.0", "CC0-1.0", "CC-BY-4.0", "CC-BY-SA-4.0"}
+LICENSES = {
+    "GPL-2.0-or-later",
+    "GPL-3.0-or-later",
+    "LGPL-2.1-or-later",
+    "LGPL-3.0-or-later",
+    "MIT",
+    "MIT-0",
+    "BSD-2-Clause",
+    "BSD-3-Clause",
+    "Apache-2.0",
+    "MPL-2.0",
+    "Zlib",
+    "BSL-1.0",
+    "CC0-1.0",
+    "CC-BY-4.0",
+    "CC-BY-SA-4.0",
+}
 
 
 def version_tuple(text):
@@ -56,8 +109,13 @@ def version_tuple(text):
 
 def plain_text(value, limit=None):
     """A non-empty string without control characters or surrounding blanks."""
-    return (isinstance(value, str) and value == value.strip() and value
-            and not any(ord(c) < 32 for c in value) and (limit is None or len(value) <= limit))
+    return (
+        isinstance(value, str)
+        and value == value.strip()
+        and value
+        and not any(ord(c) < 32 for c in value)
+        and (limit is None or len(value) <= limit)
+    )
 
 
 def test_manifest_follows_the_extension_schema(manifest):
@@ -81,7 +139,7 @@ def test_manifest_follows_the_extension_schema(manifest):
         assert version_tuple(m["blender_version_max"]) > version_tuple(m["blender_version_min"])
     assert isinstance(m["license"], list) and m["license"]
     for lic in m["license"]:
-        assert lic.startswith("SPDX:") and lic[len("SPDX:"):] in LICENSES, lic
+        assert lic.startswith("SPDX:") and lic[len("SPDX:") :] in LICENSES, lic
     if "platforms" in m:
         assert m["platforms"] and set(m["platforms"]) <= PLATFORMS, m["platforms"]
     if "tags" in m:
@@ -126,9 +184,10 @@ def imported_modules():
 
 
 def needed_libraries(library):
-    return re.findall(r"\(NEEDED\)\s+Shared library: \[([^\]]+)\]",
-                      subprocess.run(["readelf", "-d", str(library)], capture_output=True,
-                                     text=True, check=True).stdout)
+    return re.findall(
+        r"\(NEEDED\)\s+Shared library: \[([^\]]+)\]",
+        subprocess.run(["readelf", "-d", str(library)], capture_output=True, text=True, check=True).stdout,
+    )
 
 
 def test_zip_holds_the_addon_and_nothing_else(addon_zip):
@@ -159,8 +218,9 @@ def test_zip_library_loads_with_what_it_finds(addon_zip, tmp_path):
     nothing "not found"), each a system runtime library."""
     with zipfile.ZipFile(addon_zip) as z:
         z.extractall(tmp_path)
-    out = subprocess.run(["ldd", str(tmp_path / MODULE / "libdevelopable.so")],
-                         capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        ["ldd", str(tmp_path / MODULE / "libdevelopable.so")], capture_output=True, text=True, check=True
+    ).stdout
     lines = [line.strip() for line in out.splitlines() if line.strip()]
     assert lines
     for line in lines:
@@ -193,36 +253,37 @@ def test_zip_installs_and_enables(blender_env, installed_addon_dir):
 
 
 def _header_struct(name):
-    text = (REPO / "native" / "developable.h").read_text()
+    text = (REPO / "native" / "api" / "developable.h").read_text()
     body = re.search(r"typedef struct %s \{(.*?)\} %s;" % (name, name), text, re.S).group(1)
     body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
-    return re.findall(r"^\s*(int32_t|int64_t|double|uint8_t|char)\s+(\w+)\s*(?:\[(\d+)\])?\s*;",
-                      body, re.M)
+    return re.findall(r"^\s*(int32_t|int64_t|double|uint8_t|char)\s+(\w+)\s*(?:\[(\d+)\])?\s*;", body, re.M)
 
 
 def test_ctypes_binding_matches_the_header():
     import ctypes
     import importlib.util
+
     spec = importlib.util.spec_from_file_location("dev_native", REPO / "addon" / "native.py")
     native = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(native)
-    ctype = {"int32_t": ctypes.c_int32, "int64_t": ctypes.c_int64, "double": ctypes.c_double,
-             "uint8_t": ctypes.c_uint8}
+    ctype = {"int32_t": ctypes.c_int32, "int64_t": ctypes.c_int64, "double": ctypes.c_double, "uint8_t": ctypes.c_uint8}
     for struct in ("dev_params", "dev_stats"):
-        header = [(n, ctypes.c_char * int(size) if t == "char" else ctype[t])
-                  for t, n, size in _header_struct(struct)]
+        header = [(n, ctypes.c_char * int(size) if t == "char" else ctype[t]) for t, n, size in _header_struct(struct)]
         binding = list(getattr(native, struct)._fields_)
         assert [n for n, _ in header] == [n for n, _ in binding], struct
         for (name, want), (_, have) in zip(header, binding):
-            assert ctypes.sizeof(want) == ctypes.sizeof(have) and \
-                getattr(want, "_type_", want) == getattr(have, "_type_", have), (struct, name)
-    abi = int(re.search(r"#define DEV_ABI_VERSION (\d+)",
-                        (REPO / "native" / "developable.h").read_text()).group(1))
+            assert ctypes.sizeof(want) == ctypes.sizeof(have) and getattr(want, "_type_", want) == getattr(
+                have, "_type_", have
+            ), (struct, name)
+    abi = int(
+        re.search(r"#define DEV_ABI_VERSION (\d+)", (REPO / "native" / "api" / "developable.h").read_text()).group(1)
+    )
     assert native.ABI_VERSION == abi
 
 
-@pytest.mark.parametrize("line", sorted(module_blenders()) or
-                         [pytest.param("none", marks=pytest.mark.skip("no bpy wheel installed"))])
+@pytest.mark.parametrize(
+    "line", sorted(module_blenders()) or [pytest.param("none", marks=pytest.mark.skip("no bpy wheel installed"))]
+)
 def test_zip_passes_that_blenders_own_extension_validator(addon_zip, line):
     code, out = validate_manifest(addon_zip, module_blenders()[line])
     assert code == 0, out

@@ -14,8 +14,9 @@ PATTERN_SCENARIOS = SCRIPTS / "pattern_scenarios.py"
 
 
 def pattern_scenario(env, name, *extra, xvfb=False, before=()):
-    proc = run_blender(list(before) + ["--python", str(PATTERN_SCENARIOS), "--", name] +
-                       [str(e) for e in extra], env, xvfb=xvfb)
+    proc = run_blender(
+        list(before) + ["--python", str(PATTERN_SCENARIOS), "--", name] + [str(e) for e in extra], env, xvfb=xvfb
+    )
     res = results(proc)
     assert res, "no RESULT\nstdout:\n%s\nstderr:\n%s" % (proc.stdout[-4000:], proc.stderr[-4000:])
     assert "traceback" not in proc.stderr.lower(), proc.stderr[-4000:]
@@ -32,8 +33,11 @@ def test_unfold_pattern_headless(blender_env, tmp_path):
     assert base["islands"] == base["record"]["pieces"] >= 1  # one island per piece
     assert base["seams"] > 0  # the closed band is cut open
     domain, kind, count, low, high = base["strain"]
-    assert (domain, kind) == ("FACE", "FLOAT") and low >= 0 and high == pytest.approx(
-        base["record"]["worst_strain"] / 100, rel=1e-4)
+    assert (
+        (domain, kind) == ("FACE", "FLOAT")
+        and low >= 0
+        and high == pytest.approx(base["record"]["worst_strain"] / 100, rel=1e-4)
+    )
     assert r["run"] == ["FINISHED"]
     res, err, key = r["key"]
     assert res == ["FINISHED"], err
@@ -68,8 +72,7 @@ def test_undo_removes_what_unfold_pattern_wrote(blender_env, tmp_path):
     blend = []
     if shot:  # started on a saved file, Blender shows no splash screen over the editor
         blend = [str(tmp_path / "start.blend")]
-        run_blender(["--python-expr", "import bpy; bpy.ops.wm.save_as_mainfile(filepath=%r)" % blend[0]],
-                    blender_env)
+        run_blender(["--python-expr", "import bpy; bpy.ops.wm.save_as_mainfile(filepath=%r)" % blend[0]], blender_env)
         out = tmp_path / "out"
         out.mkdir()
     else:
@@ -89,10 +92,10 @@ def test_undo_removes_what_unfold_pattern_wrote(blender_env, tmp_path):
 
 def test_batch_script_writes_the_pattern(blender_env, tmp_path):
     from test_addon_batch import _batch
+
     out = tmp_path / "band.blend"
     svg = tmp_path / "band.svg"
-    proc, r = _batch(blender_env, "demo:cone_band", out, "--pattern", svg, "--pattern-scale", "auto",
-                     "--sheet", "a3")
+    proc, r = _batch(blender_env, "demo:cone_band", out, "--pattern", svg, "--pattern-scale", "auto", "--sheet", "a3")
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     p = r["pattern"]
     assert p["pieces"] >= 1 and p["sheets"] >= 1 and 0 < p["scale"] <= 1
@@ -100,8 +103,19 @@ def test_batch_script_writes_the_pattern(blender_env, tmp_path):
     assert 'width="297mm"' in pathlib.Path(p["files"][0]).read_text()
     assert 'id="seam-lines"' not in pathlib.Path(p["files"][0]).read_text()
     # The panel's Seam Allowance: the cut lines go around dashed seam lines.
-    proc, r = _batch(blender_env, "demo:cone_band", out, "--pattern", svg, "--pattern-scale", "auto",
-                     "--sheet", "a3", "--seam-allowance", "5")
+    proc, r = _batch(
+        blender_env,
+        "demo:cone_band",
+        out,
+        "--pattern",
+        svg,
+        "--pattern-scale",
+        "auto",
+        "--sheet",
+        "a3",
+        "--seam-allowance",
+        "5",
+    )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     text = pathlib.Path(r["pattern"]["files"][0]).read_text()
     assert 'id="seam-lines"' in text and "stroke-dasharray" in text
@@ -109,8 +123,9 @@ def test_batch_script_writes_the_pattern(blender_env, tmp_path):
     # folded along a dashed line.
     band = tmp_path / "cylinder.obj"
     write_obj(band, *meshes.cylinder())
-    proc, r = _batch(blender_env, band, tmp_path / "cylinder.blend", "--pattern", svg, "--pattern-scale", "auto",
-                     "--glue-tabs", "5")
+    proc, r = _batch(
+        blender_env, band, tmp_path / "cylinder.blend", "--pattern", svg, "--pattern-scale", "auto", "--glue-tabs", "5"
+    )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     text = pathlib.Path(r["pattern"]["files"][0]).read_text()
     folds = text.split('id="fold-lines"')[1].split("</g>")[0]

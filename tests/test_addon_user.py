@@ -17,8 +17,7 @@ USER = SCRIPTS / "user_scenarios.py"
 def user_scenario(env, name):
     proc = run_blender(["--python", str(USER), "--", name], env, timeout=600)
     out = results(proc)
-    assert out, "scenario %s printed no RESULT\n%s\n%s" % (name, proc.stdout[-5000:],
-                                                          proc.stderr[-3000:])
+    assert out, "scenario %s printed no RESULT\n%s\n%s" % (name, proc.stdout[-5000:], proc.stderr[-3000:])
     assert "traceback" not in proc.stderr.lower(), proc.stderr[-4000:]
     return out[-1], proc
 
@@ -27,17 +26,30 @@ def user_scenario(env, name):
 # another in one start-up of each Blender ("batch"; the start-up, not the
 # scenario, is most of a run's time on the bpy wheels). "worse" runs alone:
 # its test reads the warning in that run's own console output.
-BATCH = ("presets", "better", "developable", "menu_uses_panel", "shape_key", "scaled",
-         "non_manifold", "shared_triangle", "several", "gauss")
+BATCH = (
+    "presets",
+    "better",
+    "developable",
+    "menu_uses_panel",
+    "shape_key",
+    "scaled",
+    "non_manifold",
+    "shared_triangle",
+    "several",
+    "gauss",
+)
 
 
 @pytest.fixture(scope="module")
 def batch(any_blender_env):
-    proc = run_blender(["--python", str(USER), "--", "batch", *BATCH], any_blender_env,
-                       timeout=900)
+    proc = run_blender(["--python", str(USER), "--", "batch", *BATCH], any_blender_env, timeout=900)
     out = results(proc)
     assert len(out) == len(BATCH), "batch %s printed %d RESULTs\n%s\n%s" % (
-        BATCH, len(out), proc.stdout[-5000:], proc.stderr[-3000:])
+        BATCH,
+        len(out),
+        proc.stdout[-5000:],
+        proc.stderr[-3000:],
+    )
     # each scenario's stderr: what follows its "SCENARIO NAME" line
     head, *parts = re.split(r"^SCENARIO (\w+)\n", proc.stderr, flags=re.M)
     assert "traceback" not in head.lower(), head[-4000:]
@@ -61,8 +73,8 @@ def test_presets_set_their_values(batch):
     assert r["after_edit"] == "CUSTOM"
     s = r["script_preset"]
     assert s["result"] == ["FINISHED"], s["error"]
-    assert s["patches"] > 1           # 'Whole object into pieces' always splits
-    assert s["scene_preset_kept"] == "GENERAL"   # a script call does not rewrite the sidebar
+    assert s["patches"] > 1  # 'Whole object into pieces' always splits
+    assert s["scene_preset_kept"] == "GENERAL"  # a script call does not rewrite the sidebar
 
 
 def test_a_worse_result_is_a_warning_and_left_off(any_blender_env):
@@ -85,7 +97,7 @@ def test_a_better_result_is_reported_in_the_users_terms(batch):
     assert rec["verdict"] == "IMPROVED", rec["message"]
     assert rec["flat_after"] > rec["flat_before"]
     assert rec["faces_turned"] == 0
-    assert 0 < rec["move_percent"] <= 1.0 + 1e-6   # the General job: at most 1 % of the size
+    assert 0 < rec["move_percent"] <= 1.0 + 1e-6  # the General job: at most 1 % of the size
     assert "flat" in rec["message"] and "% of its size" in rec["message"]
     assert r["key_value"] == 1.0
 
@@ -94,8 +106,7 @@ def test_an_already_developable_mesh_is_said_so_without_advice(batch):
     """A flat grid and an open box of grids: nothing to do is no failure, so no
     warning and nothing to try; the panel reads 'Already developable'."""
     r = batched(batch, "developable")
-    for name, words in (("plane", "it is already developable."),
-                        ("box", "it is already developable piecewise")):
+    for name, words in (("plane", "it is already developable."), ("box", "it is already developable piecewise")):
         rec = r[name]["record"]
         assert r[name]["result"] == ["FINISHED"], r[name]["error"]
         assert rec["verdict"] == "DEVELOPABLE", rec["message"]
@@ -107,8 +118,7 @@ def test_the_menu_entry_uses_the_panels_values(batch):
     r = batched(batch, "menu_uses_panel")
     assert r["result"] == ["FINISHED"], r["error"]
     # the menu entry sets no value: the operator takes them all from the sidebar
-    assert [[op, set(kw) - {"icon", "text"}] for op, kw in r["menu"]] == \
-        [["mesh.make_developable", set()]]
+    assert [[op, set(kw) - {"icon", "text"}] for op, kw in r["menu"]] == [["mesh.make_developable", set()]]
     assert r["iterations"] <= 3
     assert r["patches"] == 1
     assert r["move_percent"] <= 0.5 + 1e-6
@@ -120,7 +130,7 @@ def test_an_extra_shape_key_gives_the_figures_of_what_is_shown(batch):
     assert r["result"] == ["FINISHED"], r["error"]
     rec = r["record"]
     assert r["keys"] == ["Basis", "Bulge", "Developable"]
-    assert r["shown_before"] > 10 * r["basis_defect"]      # the bulge is what is curved
+    assert r["shown_before"] > 10 * r["basis_defect"]  # the bulge is what is curved
     assert rec["e_before"] == pytest.approx(r["shown_before"], rel=1e-3)
     assert r["shown_at_zero"] == pytest.approx(r["shown_before"], rel=1e-4)
     assert rec["e_after"] == pytest.approx(r["shown_at_one"], rel=2e-3, abs=1e-6)
@@ -171,7 +181,7 @@ def test_the_gauss_image_is_legible_and_follows_its_object(batch):
     assert len(r["legend"]) == 3
 
 
-ONE_LINER = ("import bpy; bpy.ops.mesh.make_developable(); bpy.ops.wm.save_mainfile()")
+ONE_LINER = "import bpy; bpy.ops.mesh.make_developable(); bpy.ops.wm.save_mainfile()"
 
 
 def _one_liner(env, blend):
@@ -184,26 +194,27 @@ def _one_liner(env, blend):
 
 
 def _save(env, blend, kind):
-    code = ("import bpy, sys, numpy as np\n"
-            "sys.path.insert(0, %r)\n"
-            "sys.argv = ['x']\n"
-            "import user_scenarios as u\n"
-            "u.clear()\n"
-            "if %r == 'good':\n"
-            "    u.make_object('sheet', *u.noisy_sheet())\n"
-            "else:\n"
-            "    v, f = u.noisy_sheet(nu=8, nv=6)\n"
-            "    v = np.vstack([v, [[0, 1, 2]]])\n"
-            "    u.make_object('fin', v, list(map(tuple, f)) + [(9, 10, len(v) - 1)])\n"
-            "bpy.ops.wm.save_as_mainfile(filepath=%r)\n" % (str(SCRIPTS), kind, str(blend)))
+    code = (
+        "import bpy, sys, numpy as np\n"
+        "sys.path.insert(0, %r)\n"
+        "sys.argv = ['x']\n"
+        "import user_scenarios as u\n"
+        "u.clear()\n"
+        "if %r == 'good':\n"
+        "    u.make_object('sheet', *u.noisy_sheet())\n"
+        "else:\n"
+        "    v, f = u.noisy_sheet(nu=8, nv=6)\n"
+        "    v = np.vstack([v, [[0, 1, 2]]])\n"
+        "    u.make_object('fin', v, list(map(tuple, f)) + [(9, 10, len(v) - 1)])\n"
+        "bpy.ops.wm.save_as_mainfile(filepath=%r)\n" % (str(SCRIPTS), kind, str(blend))
+    )
     run_blender(["--python-expr", code], env)
 
 
 @pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is missing")
 def test_a_repeated_run_writes_its_values_back_to_the_sidebar(blender_env):
     """Debian's 3.4 in a window (the bpy module has none)."""
-    proc = run_blender(["--python", str(USER), "--", "redo_reaches_the_sidebar"], blender_env,
-                       xvfb=True, timeout=600)
+    proc = run_blender(["--python", str(USER), "--", "redo_reaches_the_sidebar"], blender_env, xvfb=True, timeout=600)
     r = results(proc)[-1]
     assert "exception" not in r, r["exception"]
     assert r["first"] == ["FINISHED"] and r["first_iterations"] <= 7
@@ -221,13 +232,19 @@ def test_the_headless_one_liner_saves_and_fails_loudly(any_blender_env, tmp_path
     before = bad.read_bytes()
     proc = _one_liner(any_blender_env, good)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    check = run_blender([str(good), "--python-expr",
-                         "import bpy, addon_utils; "
-                         "[addon_utils.enable(m.__name__) for m in addon_utils.modules() "
-                         "if m.__name__.endswith('developable_mesh')]; "
-                         "ob = bpy.data.objects['sheet']; "
-                         "print('KEYS', [k.name for k in ob.data.shape_keys.key_blocks], "
-                         "ob.developable.has_result)"], any_blender_env)
+    check = run_blender(
+        [
+            str(good),
+            "--python-expr",
+            "import bpy, addon_utils; "
+            "[addon_utils.enable(m.__name__) for m in addon_utils.modules() "
+            "if m.__name__.endswith('developable_mesh')]; "
+            "ob = bpy.data.objects['sheet']; "
+            "print('KEYS', [k.name for k in ob.data.shape_keys.key_blocks], "
+            "ob.developable.has_result)",
+        ],
+        any_blender_env,
+    )
     assert "KEYS ['Basis', 'Developable'] True" in check.stdout
     proc = _one_liner(any_blender_env, bad)
     assert proc.returncode != 0

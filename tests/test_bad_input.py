@@ -18,14 +18,14 @@ def pointer(array, ctype):
     """A numpy array as the typed pointer the binding's declarations ask for."""
     return array.ctypes.data_as(ctypes.POINTER(ctype))
 
+
 SQUARE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0.2]], float)
 FAN = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]], np.int32)
 
 
 def bowtie():
     """Two fans sharing only their centre vertex 0."""
-    pos = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
-                    [-1, 0, 0.1], [-1, -1, 0.1], [0, -1, 0.1]], float)
+    pos = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [-1, 0, 0.1], [-1, -1, 0.1], [0, -1, 0.1]], float)
     tri = np.array([[0, 1, 2], [0, 2, 3], [0, 4, 5], [0, 5, 6]], np.int32)
     return pos, tri
 
@@ -53,21 +53,30 @@ BAD_MESHES = {
     # name: (positions, triangles, status, words the message must contain)
     "no vertices": (np.zeros((0, 3)), np.zeros((0, 3), np.int32), "EMPTY_INPUT", "no vertices"),
     "no triangles": (SQUARE, np.zeros((0, 3), np.int32), "EMPTY_INPUT", "no triangles"),
-    "index too large": (SQUARE, np.vstack([FAN, [[0, 1, 9]]]), "INDEX_OUT_OF_RANGE",
-                        "triangle 4 (0, 1, 9)"),
-    "negative index": (SQUARE, np.vstack([FAN, [[0, -1, 2]]]), "INDEX_OUT_OF_RANGE",
-                       "vertex -1"),
+    "index too large": (SQUARE, np.vstack([FAN, [[0, 1, 9]]]), "INDEX_OUT_OF_RANGE", "triangle 4 (0, 1, 9)"),
+    "negative index": (SQUARE, np.vstack([FAN, [[0, -1, 2]]]), "INDEX_OUT_OF_RANGE", "vertex -1"),
     "NaN coordinate": with_nan() + ("NON_FINITE_COORDINATE", "vertex 2"),
     "infinite coordinate": with_inf() + ("NON_FINITE_COORDINATE", "vertex 3"),
-    "repeated vertex": (SQUARE, np.vstack([FAN, [[1, 1, 2]]]), "DEGENERATE_TRIANGLE",
-                        "triangle 4 (1, 1, 2) repeats a vertex"),
-    "zero area": (np.vstack([SQUARE, [[2, 0, 0]]]), np.vstack([FAN, [[0, 1, 5]]]),
-                  "DEGENERATE_TRIANGLE", "triangle 4 (0, 1, 5) has zero area"),
-    "duplicate triangle": (SQUARE, np.vstack([FAN, [[4, 1, 2]]]), "DUPLICATE_TRIANGLE",
-                           "triangle 4"),
+    "repeated vertex": (
+        SQUARE,
+        np.vstack([FAN, [[1, 1, 2]]]),
+        "DEGENERATE_TRIANGLE",
+        "triangle 4 (1, 1, 2) repeats a vertex",
+    ),
+    "zero area": (
+        np.vstack([SQUARE, [[2, 0, 0]]]),
+        np.vstack([FAN, [[0, 1, 5]]]),
+        "DEGENERATE_TRIANGLE",
+        "triangle 4 (0, 1, 5) has zero area",
+    ),
+    "duplicate triangle": (SQUARE, np.vstack([FAN, [[4, 1, 2]]]), "DUPLICATE_TRIANGLE", "triangle 4"),
     "non-manifold edge": fin() + ("NON_MANIFOLD", "edge (0, 1)"),
-    "inconsistent orientation": (SQUARE, np.vstack([FAN[:1], [[2, 1, 4]], FAN[2:]]),
-                                 "NON_MANIFOLD", "inconsistent orientation"),
+    "inconsistent orientation": (
+        SQUARE,
+        np.vstack([FAN[:1], [[2, 1, 4]], FAN[2:]]),
+        "NON_MANIFOLD",
+        "inconsistent orientation",
+    ),
     "non-manifold vertex": bowtie() + ("NON_MANIFOLD", "vertex 0 is non-manifold"),
 }
 
@@ -99,12 +108,23 @@ def test_everything_pinned(library):
     assert "pinned" in error.value.message
 
 
-@pytest.mark.parametrize("field,value", [
-    ("omega", 0.0), ("omega", -1.0), ("omega", float("nan")), ("tolerance", float("inf")),
-    ("max_iterations", 0), ("segmentation", 4), ("grid_resolution", 3),
-    ("stop_relative_change", -1.0), ("target_patches", -2), ("segment_max_error", -1.0),
-    ("target_smoothing", -2), ("target_smoothing", 101),
-])
+@pytest.mark.parametrize(
+    "field,value",
+    [
+        ("omega", 0.0),
+        ("omega", -1.0),
+        ("omega", float("nan")),
+        ("tolerance", float("inf")),
+        ("max_iterations", 0),
+        ("segmentation", 4),
+        ("grid_resolution", 3),
+        ("stop_relative_change", -1.0),
+        ("target_patches", -2),
+        ("segment_max_error", -1.0),
+        ("target_smoothing", -2),
+        ("target_smoothing", 101),
+    ],
+)
 def test_parameters_out_of_range(library, field, value):
     positions, triangles = meshes.noisy_cylinder_patch()
     with pytest.raises(native.EngineError) as error:
@@ -122,9 +142,19 @@ def test_enumerations_out_of_range(library, field, value):
     setattr(params.params, field, value)
     handle = ctypes.c_void_p()
     message = ctypes.create_string_buffer(256)
-    status = library.dev_run(pointer(pos, ctypes.c_double), len(pos), pointer(tri, ctypes.c_int32),
-                             len(tri), None, ctypes.byref(params.params), NO_PROGRESS, None,
-                             ctypes.byref(handle), message, len(message))
+    status = library.dev_run(
+        pointer(pos, ctypes.c_double),
+        len(pos),
+        pointer(tri, ctypes.c_int32),
+        len(tri),
+        None,
+        ctypes.byref(params.params),
+        NO_PROGRESS,
+        None,
+        ctypes.byref(handle),
+        message,
+        len(message),
+    )
     assert status == 7 and not handle.value and field in message.value.decode()
 
 
@@ -132,52 +162,74 @@ def test_null_and_negative_buffers(library):
     lib = library
     message = ctypes.create_string_buffer(256)
     handle = ctypes.c_void_p()
-    assert lib.dev_run(None, 3, None, 1, None, None, NO_PROGRESS, None, ctypes.byref(handle),
-                       message, len(message)) == 7
+    assert (
+        lib.dev_run(None, 3, None, 1, None, None, NO_PROGRESS, None, ctypes.byref(handle), message, len(message)) == 7
+    )
     assert b"null" in message.value
-    assert lib.dev_run(None, -3, None, 1, None, None, NO_PROGRESS, None, ctypes.byref(handle),
-                       message, len(message)) == 7
-    assert lib.dev_run(None, 3, None, 1, None, None, NO_PROGRESS, None, None, message,
-                       len(message)) == 7
+    assert (
+        lib.dev_run(None, -3, None, 1, None, None, NO_PROGRESS, None, ctypes.byref(handle), message, len(message)) == 7
+    )
+    assert lib.dev_run(None, 3, None, 1, None, None, NO_PROGRESS, None, None, message, len(message)) == 7
     # A message buffer of one byte still gets its terminating NUL, and none at all is fine.
     tiny = ctypes.create_string_buffer(b"x", 1)
-    assert lib.dev_run(None, 0, None, 0, None, None, NO_PROGRESS, None, ctypes.byref(handle), tiny,
-                       1) == 1
+    assert lib.dev_run(None, 0, None, 0, None, None, NO_PROGRESS, None, ctypes.byref(handle), tiny, 1) == 1
     assert tiny.raw == b"\0"
-    assert lib.dev_run(None, 0, None, 0, None, None, NO_PROGRESS, None, ctypes.byref(handle), None,
-                       0) == 1
+    assert lib.dev_run(None, 0, None, 0, None, None, NO_PROGRESS, None, ctypes.byref(handle), None, 0) == 1
 
 
 def test_result_accessors_check_their_buffers(library):
     positions, triangles = meshes.plane()
     pos, tri = np.ascontiguousarray(positions), np.ascontiguousarray(triangles)
     handle = ctypes.c_void_p()
-    assert library.dev_run(pointer(pos, ctypes.c_double), len(pos), pointer(tri, ctypes.c_int32),
-                           len(tri), None, None, NO_PROGRESS, None, ctypes.byref(handle), None,
-                           0) == 0
+    assert (
+        library.dev_run(
+            pointer(pos, ctypes.c_double),
+            len(pos),
+            pointer(tri, ctypes.c_int32),
+            len(tri),
+            None,
+            None,
+            NO_PROGRESS,
+            None,
+            ctypes.byref(handle),
+            None,
+            0,
+        )
+        == 0
+    )
     try:
         small = np.zeros(3 * len(pos) - 1)
-        assert library.dev_result_positions(handle, pointer(small, ctypes.c_double),
-                                            small.size) == 7
-        assert library.dev_result_positions(handle, None, 10 ** 6) == 7
-        assert library.dev_result_curve_info(handle, 10 ** 6, None, None, None) == 7
+        assert library.dev_result_positions(handle, pointer(small, ctypes.c_double), small.size) == 7
+        assert library.dev_result_positions(handle, None, 10**6) == 7
+        assert library.dev_result_curve_info(handle, 10**6, None, None, None) == 7
         assert library.dev_result_curve_info(handle, -1, None, None, None) == 7
     finally:
         library.dev_result_free(handle)
     library.dev_result_free(None)
 
 
-@pytest.mark.parametrize("name", ["NaN coordinate", "non-manifold edge", "non-manifold vertex",
-                                  "inconsistent orientation", "duplicate triangle",
-                                  "repeated vertex", "zero area", "index too large",
-                                  "no triangles"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "NaN coordinate",
+        "non-manifold edge",
+        "non-manifold vertex",
+        "inconsistent orientation",
+        "duplicate triangle",
+        "repeated vertex",
+        "zero area",
+        "index too large",
+        "no triangles",
+    ],
+)
 def test_bad_mesh_through_the_tool(tool_path, tmp_path, name):
     positions, triangles, status, words = BAD_MESHES[name]
     source, target, report = tmp_path / "in.obj", tmp_path / "out.obj", tmp_path / "r.json"
     # a negative index would be a relative one in OBJ: written past the end instead
-    write_obj(source, positions, np.where(triangles < 0, 10 ** 6 - 1, triangles))
-    run = subprocess.run([str(tool_path), str(source), str(target), "--report", str(report)],
-                         capture_output=True, text=True, timeout=60)
+    write_obj(source, positions, np.where(triangles < 0, 10**6 - 1, triangles))
+    run = subprocess.run(
+        [str(tool_path), str(source), str(target), "--report", str(report)], capture_output=True, text=True, timeout=60
+    )
     assert run.returncode == 2, run.stderr
     error_lines = [line for line in run.stderr.splitlines() if "error" in line]
     assert len(error_lines) == 1 and words.split(" (")[0] in error_lines[0], run.stderr

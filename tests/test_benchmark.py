@@ -31,9 +31,20 @@ def _tables(markdown):
 def quick_run(tmp_path_factory, build_dir, repo_dir):
     out = tmp_path_factory.mktemp("bench")
     docs_before = {p.name: p.stat().st_mtime_ns for p in (repo_dir / "docs").glob("*")}
-    proc = subprocess.run([sys.executable, str(repo_dir / "bench" / "run.py"), "--quick",
-                           "--out", str(out), "--build-dir", str(build_dir)],
-                          capture_output=True, text=True, timeout=600)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            str(repo_dir / "bench" / "run.py"),
+            "--quick",
+            "--out",
+            str(out),
+            "--build-dir",
+            str(build_dir),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     docs_after = {p.name: p.stat().st_mtime_ns for p in (repo_dir / "docs").glob("*")}
     return out, docs_before, docs_after
@@ -49,8 +60,13 @@ def test_quick_run_writes_into_out_only(quick_run):
 def test_tables_are_well_formed(quick_run):
     out = quick_run[0]
     text = (out / "benchmarks.md").read_text()
-    for heading in ("## Targets", "## Real meshes", "## Generated meshes of growing size",
-                    "## The paper's Tables I and II", "## Paper mode against refit mode"):
+    for heading in (
+        "## Targets",
+        "## Real meshes",
+        "## Generated meshes of growing size",
+        "## The paper's Tables I and II",
+        "## Paper mode against refit mode",
+    ):
         assert heading in text
     assert "dev_version_string" in text and "cores" in text
     tables = _tables(text)
@@ -72,8 +88,7 @@ def test_raw_numbers_are_finite(quick_run):
     rows = data["rows"]
     assert rows and all("error" not in r for r in rows), [r.get("error") for r in rows]
     for r in rows:
-        for key in ("mean_before", "mean_after", "max_after", "flat_after", "hausdorff", "t_T",
-                    "peak_mib"):
+        for key in ("mean_before", "mean_after", "max_after", "flat_after", "hausdorff", "t_T", "peak_mib"):
             assert np.isfinite(r[key]), (r["label"], key)
         # Never worse than the input by the engine's score: E^mean, or on a segmented
         # mesh in the refit mode the median |defect| inside the patches, which the

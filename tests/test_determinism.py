@@ -53,19 +53,24 @@ def test_thread_counts_give_the_same_file_through_the_tool(big_mesh, tool_path, 
     outputs = []
     for threads in ("1", "2"):
         out = tmp_path / ("out%s.obj" % threads)
-        run = subprocess.run([str(tool_path), str(tmp_path / "in.obj"), str(out), "--quiet",
-                              "--max-iterations", "12"],
-                             env=dict(os.environ, DEVELOPABLE_THREADS=threads),
-                             capture_output=True, text=True)
+        run = subprocess.run(
+            [str(tool_path), str(tmp_path / "in.obj"), str(out), "--quiet", "--max-iterations", "12"],
+            env=dict(os.environ, DEVELOPABLE_THREADS=threads),
+            capture_output=True,
+            text=True,
+        )
         assert run.returncode == 0, run.stderr
         outputs.append(out.read_bytes())
     assert outputs[0] == outputs[1]
 
 
-@pytest.mark.parametrize("family,triangulation,seed", [
-    ("cylinder_patch", "grid", 101),
-    ("bent_sheet", "slivers", 102),
-])
+@pytest.mark.parametrize(
+    "family,triangulation,seed",
+    [
+        ("cylinder_patch", "grid", 101),
+        ("bent_sheet", "slivers", 102),
+    ],
+)
 def test_least_motions_candidates_polished_at_once_give_one_result(family, triangulation, seed, monkeypatch):
     """Least motion polishes its candidates side by side (pipeline.cpp,
     run_concurrently) and judges them in one order once all have run, so the

@@ -27,14 +27,17 @@ def test_obj_polygons_are_split_into_fans(tmp_path):
 A, B, C = np.array([0.0, 0, 0]), np.array([2.0, 0, 0]), np.array([0.0, 2, 0])
 
 
-@pytest.mark.parametrize("point,distance", [
-    ((0.5, 0.5, 3.0), 3.0),                 # above the face
-    ((-1.0, -1.0, 0.0), np.sqrt(2)),        # beyond vertex a
-    ((3.0, -1.0, 1.0), np.sqrt(3)),         # beyond vertex b
-    ((1.0, -2.0, 0.0), 2.0),                # beside edge ab
-    ((-0.5, 1.0, 0.0), 0.5),                # beside edge ac
-    ((2.0, 2.0, 0.0), np.sqrt(2)),          # beside edge bc
-])
+@pytest.mark.parametrize(
+    "point,distance",
+    [
+        ((0.5, 0.5, 3.0), 3.0),  # above the face
+        ((-1.0, -1.0, 0.0), np.sqrt(2)),  # beyond vertex a
+        ((3.0, -1.0, 1.0), np.sqrt(3)),  # beyond vertex b
+        ((1.0, -2.0, 0.0), 2.0),  # beside edge ab
+        ((-0.5, 1.0, 0.0), 0.5),  # beside edge ac
+        ((2.0, 2.0, 0.0), np.sqrt(2)),  # beside edge bc
+    ],
+)
 def test_point_triangle_distance_in_every_region(point, distance):
     d = point_triangle_distance(np.array([point]), A, B, C)
     assert d[0] == pytest.approx(distance, rel=1e-14)
@@ -55,6 +58,7 @@ def test_sampled_hausdorff_equals_brute_force(other):
         pos_b, tri_b = meshes.add_noise(pos, 0.02, seed=5), tri
     else:
         pos_b, tri_b = meshes.cone(rows=5, cols=30, r0=1.3, r1=0.7, height=0.75)
-    expected = max(brute_force_one_sided(samples(pos, tri), pos_b, tri_b),
-                   brute_force_one_sided(samples(pos_b, tri_b), pos, tri))
+    expected = max(
+        brute_force_one_sided(samples(pos, tri), pos_b, tri_b), brute_force_one_sided(samples(pos_b, tri_b), pos, tri)
+    )
     assert sampled_hausdorff(pos, tri, pos_b, tri_b) == pytest.approx(expected, rel=1e-12)

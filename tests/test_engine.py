@@ -11,12 +11,15 @@ def moved_fraction(result, positions):
     return np.abs(result.positions - positions).max() / bbox_diagonal(positions)
 
 
-@pytest.mark.parametrize("name,mesh", [
-    ("plane", meshes.plane()),
-    ("cylinder", meshes.cylinder()),
-    ("half cylinder", meshes.cylinder(angle=np.pi)),
-    ("cone", meshes.cone()),
-])
+@pytest.mark.parametrize(
+    "name,mesh",
+    [
+        ("plane", meshes.plane()),
+        ("cylinder", meshes.cylinder()),
+        ("half cylinder", meshes.cylinder(angle=np.pi)),
+        ("cone", meshes.cone()),
+    ],
+)
 def test_exact_developable_surfaces_come_out_unchanged(library, name, mesh):
     positions, triangles = mesh
     result = native.run(positions, triangles)
@@ -47,8 +50,7 @@ def test_noisy_cylinder_patch_becomes_developable(library):
     distance = sampled_hausdorff(positions, triangles, result.positions, triangles)
     assert distance <= 0.01 * bbox_diagonal(positions)
     # The defects the result reports are the ones of the positions it returns.
-    assert np.mean(np.abs(result.defect_after[result.interior])) == pytest.approx(
-        s["mean_defect_after"], rel=1e-9)
+    assert np.mean(np.abs(result.defect_after[result.interior])) == pytest.approx(s["mean_defect_after"], rel=1e-9)
 
 
 def test_noisy_closed_cylinder_becomes_developable(library):
@@ -57,8 +59,7 @@ def test_noisy_closed_cylinder_becomes_developable(library):
     result = native.run(positions, triangles)
     s = result.stats
     assert s["mean_defect_after"] <= 0.05 * s["mean_defect_before"], s
-    assert sampled_hausdorff(positions, triangles, result.positions, triangles) <= \
-        0.01 * bbox_diagonal(positions)
+    assert sampled_hausdorff(positions, triangles, result.positions, triangles) <= 0.01 * bbox_diagonal(positions)
 
 
 def test_stalled_one_patch_run_goes_on_with_smoothed_targets(library):
@@ -71,8 +72,7 @@ def test_stalled_one_patch_run_goes_on_with_smoothed_targets(library):
     assert s["patches"] == 1
     assert s["mean_defect_after"] <= 0.05 * s["mean_defect_before"], s
     assert s["mean_defect_after"] <= plain.stats["mean_defect_after"]
-    assert sampled_hausdorff(positions, triangles, result.positions, triangles) <= \
-        0.015 * bbox_diagonal(positions)
+    assert sampled_hausdorff(positions, triangles, result.positions, triangles) <= 0.015 * bbox_diagonal(positions)
 
 
 def rms(a, b):
@@ -80,16 +80,20 @@ def rms(a, b):
 
 
 # (The smoothed candidates are off where they would win: this is the raw input's polish.)
-@pytest.mark.parametrize("family,triangulation,seed,params,from_input", [
-    # the fitted curves flatten its waves
-    ("generalized_cone", "grid", 0, dict(polish_smoothed_input=0), True),
-    ("curved_fold", "grid", 1, {}, True),        # the same, and its crease is kept as it is
-    ("generalized_cone", "grid", 3, dict(polish_smoothed_input=0), True),
-    # the deformation removes the noise (and the smoothed input, when on, removes more)
-    ("cylinder_band", "grid", 2, dict(polish_smoothed_input=0), False),
-])
-def test_of_developable_results_the_one_that_moves_less_is_returned(library, family, triangulation, seed,
-                                                                   params, from_input):
+@pytest.mark.parametrize(
+    "family,triangulation,seed,params,from_input",
+    [
+        # the fitted curves flatten its waves
+        ("generalized_cone", "grid", 0, dict(polish_smoothed_input=0), True),
+        ("curved_fold", "grid", 1, {}, True),  # the same, and its crease is kept as it is
+        ("generalized_cone", "grid", 3, dict(polish_smoothed_input=0), True),
+        # the deformation removes the noise (and the smoothed input, when on, removes more)
+        ("cylinder_band", "grid", 2, dict(polish_smoothed_input=0), False),
+    ],
+)
+def test_of_developable_results_the_one_that_moves_less_is_returned(
+    library, family, triangulation, seed, params, from_input
+):
     """The polish of the input itself competes with the deformation and its
     polish; the one that moved the mesh less (as flat) is returned
     (pipeline.cpp, least motion). Tuning seeds of devkit/families.py."""
@@ -105,15 +109,19 @@ def test_of_developable_results_the_one_that_moves_less_is_returned(library, fam
     assert sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) <= 1.5 * h0
 
 
-@pytest.mark.parametrize("family,triangulation,seed,nearer_than_input", [
-    ("tangent_helix", "grid", 1, True),     # the deformation shifts its rulings: 2 times the noise
-    # the projected candidate moves it less than the smoothed input's polish
-    # (0.79 times the noise from the twin) and wins, 1.07 times the noise away
-    ("bent_sheet", "grid", 1, False),
-    ("cylinder_patch", "grid", 0, True),
-])
-def test_the_polish_of_the_smoothed_input_removes_the_noise_not_the_shape(library, family, triangulation, seed,
-                                                                         nearer_than_input):
+@pytest.mark.parametrize(
+    "family,triangulation,seed,nearer_than_input",
+    [
+        ("tangent_helix", "grid", 1, True),  # the deformation shifts its rulings: 2 times the noise
+        # the projected candidate moves it less than the smoothed input's polish
+        # (0.79 times the noise from the twin) and wins, 1.07 times the noise away
+        ("bent_sheet", "grid", 1, False),
+        ("cylinder_patch", "grid", 0, True),
+    ],
+)
+def test_the_polish_of_the_smoothed_input_removes_the_noise_not_the_shape(
+    library, family, triangulation, seed, nearer_than_input
+):
     """Where it moves the mesh less than the other candidates, a polish
     started from the input with its noise smoothed is returned (pipeline.cpp,
     least motion; jet_denoise.h), and the result is closer to the noise-free
@@ -133,11 +141,14 @@ def test_the_polish_of_the_smoothed_input_removes_the_noise_not_the_shape(librar
     assert h < (1.0 if nearer_than_input else 1.1) * h0
 
 
-@pytest.mark.parametrize("family,triangulation,seed", [
-    ("tangent_helix", "slivers", 1),
-    ("cone_band", "slivers", 0),
-    ("tangent_random", "grid", 2),
-])
+@pytest.mark.parametrize(
+    "family,triangulation,seed",
+    [
+        ("tangent_helix", "slivers", 1),
+        ("cone_band", "slivers", 0),
+        ("tangent_random", "grid", 2),
+    ],
+)
 def test_the_projected_smoothed_input_keeps_the_vertices_on_the_surface(library, family, triangulation, seed):
     """Where a vertex's angle sum hardly depends on its height (slivers'
     corners, valence-4 vertices), the polishes of the noisy input push it out
@@ -154,17 +165,23 @@ def test_the_projected_smoothed_input_keeps_the_vertices_on_the_surface(library,
     h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
     assert sampled_hausdorff(without.positions, m.triangles, m.clean, m.triangles) > 1.5 * h0
     assert sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) < h0
-    largest = lambda x: np.linalg.norm(x - m.positions, axis=1).max()
+
+    def largest(x):
+        return np.linalg.norm(x - m.positions, axis=1).max()
+
     assert largest(r.positions) <= largest(without.positions)
 
 
-@pytest.mark.parametrize("family,triangulation,seed", [
-    # faces, and how far from the twin (times the noise) before the limit was raised
-    ("tangent_random", "grid", 101),          # 10.7k, 5.3
-    ("tangent_random", "alternating", 101),   # 10.7k, 14.8
-    ("cylinder_patch", "slivers", 101),       # 23.0k, 6.8
-    ("generalized_cone", "alternating", 102),  # 25.2k, 11.0
-])
+@pytest.mark.parametrize(
+    "family,triangulation,seed",
+    [
+        # faces, and how far from the twin (times the noise) before the limit was raised
+        ("tangent_random", "grid", 101),  # 10.7k, 5.3
+        ("tangent_random", "alternating", 101),  # 10.7k, 14.8
+        ("cylinder_patch", "slivers", 101),  # 23.0k, 6.8
+        ("generalized_cone", "alternating", 102),  # 25.2k, 11.0
+    ],
+)
 def test_larger_meshes_have_least_motions_candidates(library, family, triangulation, seed):
     """Meshes of up to 25000 scored vertices (about 50k faces, the top of issue
     11's range) have every candidate of least motion (pipeline.cpp,
@@ -201,8 +218,7 @@ def test_paper_mode_is_selectable_and_refit_is_better(library):
     assert refit.stats["mean_defect_after"] < 0.5 * paper.stats["mean_defect_after"]
 
 
-@pytest.mark.parametrize("solver", [native.SOLVER_DECOUPLED, native.SOLVER_COUPLED],
-                         ids=["decoupled", "coupled"])
+@pytest.mark.parametrize("solver", [native.SOLVER_DECOUPLED, native.SOLVER_COUPLED], ids=["decoupled", "coupled"])
 def test_both_linear_systems_reduce_the_defect(library, solver):
     positions, triangles = meshes.noisy_cylinder_patch(noise=0.01, seed=7)
     result = native.run(positions, triangles, params=dict(solver=solver))
@@ -214,8 +230,7 @@ def test_pinned_vertices_do_not_move_at_all(library):
     rng = np.random.default_rng(0)
     pinned = rng.random(len(positions)) < 0.2
     result = native.run(positions, triangles, pinned=pinned)
-    assert np.array_equal(result.positions[pinned].view(np.uint64),
-                          positions[pinned].view(np.uint64))
+    assert np.array_equal(result.positions[pinned].view(np.uint64), positions[pinned].view(np.uint64))
     assert not np.array_equal(result.positions[~pinned], positions[~pinned])
 
 
@@ -244,8 +259,10 @@ def test_runs_are_deterministic(library):
     assert np.array_equal(a.positions, b.positions)
 
 
-@pytest.mark.parametrize("family,triangulation,seed", [
-    ("cylinder_patch", "grid", 5), ("tangent_helix", "alternating", 4), ("bent_sheet", "irregular", 3)])
+@pytest.mark.parametrize(
+    "family,triangulation,seed",
+    [("cylinder_patch", "grid", 5), ("tangent_helix", "alternating", 4), ("bent_sheet", "irregular", 3)],
+)
 def test_the_result_does_not_depend_on_units_or_placement(library, family, triangulation, seed):
     """A CAD part in millimetres, or far from the origin, gets the same shape
     (every threshold is relative to the mesh: angles, edge lengths, its

@@ -36,10 +36,10 @@ import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(REPO, "addon"))
-from devkit import families  # noqa: E402
-from devkit.distance import sampled_hausdorff  # noqa: E402
-from devkit.measures import sharpened_edges  # noqa: E402
-import native  # noqa: E402
+from devkit import families
+from devkit.distance import sampled_hausdorff
+from devkit.measures import sharpened_edges
+import native
 
 SEEDS = range(100, 103)
 GRIDS = ("grid", "alternating")
@@ -48,10 +48,18 @@ SHAPE_KEPT_IRREGULAR = ("cone_patch", "tangent_helix", "tangent_cubic", "plane")
 # family -> the largest median Hausdorff ratio accepted: today's median
 # (docs/families.md) times 1.5, at least 1.5.
 MEDIAN_RATIO = {
-    "cylinder_patch": 1.5, "cylinder_band": 1.5, "cone_patch": 1.5, "cone_band": 1.5,
-    "tangent_helix": 1.5, "tangent_cubic": 1.5, "tangent_random": 1.6,
-    "generalized_cylinder": 1.5, "generalized_cone": 1.5, "bent_sheet": 1.5,
-    "curved_fold": 1.7, "plane": 1.5,
+    "cylinder_patch": 1.5,
+    "cylinder_band": 1.5,
+    "cone_patch": 1.5,
+    "cone_band": 1.5,
+    "tangent_helix": 1.5,
+    "tangent_cubic": 1.5,
+    "tangent_random": 1.6,
+    "generalized_cylinder": 1.5,
+    "generalized_cone": 1.5,
+    "bent_sheet": 1.5,
+    "curved_fold": 1.7,
+    "plane": 1.5,
 }
 
 
@@ -66,6 +74,7 @@ face_normals = families.face_normals
 
 
 # -- the generator ------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("family", families.FAMILIES)
 def test_the_generator_is_seeded_and_its_twins_are_developable(family):
@@ -96,6 +105,7 @@ def test_curved_folds_refuse_irregular_triangulations():
 
 # -- the engine on them -------------------------------------------------------------------
 
+
 def run_family(family, triangulation):
     """The figures of every seed: (dE %, flat share, Hausdorff ratio to the twin,
     where; on irregular triangulations also the twin's own ratio: the twin run
@@ -105,10 +115,10 @@ def run_family(family, triangulation):
         m = families.random_case(family, seed, triangulations=[triangulation])
         r = native.run(m.positions, m.triangles)
         s = r.stats
-        where = "%s/%s seed %d (%d faces, noise %.3f AE)" % (family, triangulation, seed, len(m.triangles),
-                                                             m.noise)
-        turned = np.einsum("ij,ij->i", face_normals(m.positions, m.triangles),
-                           face_normals(r.positions, m.triangles)) < 0
+        where = "%s/%s seed %d (%d faces, noise %.3f AE)" % (family, triangulation, seed, len(m.triangles), m.noise)
+        turned = (
+            np.einsum("ij,ij->i", face_normals(m.positions, m.triangles), face_normals(r.positions, m.triangles)) < 0
+        )
         assert not turned.any() and s["faces_turned_over"] == 0, where
         # Nor folds an edge (the crease guard on one patch, pipeline.cpp):
         # tangent developables' thin faces came back lying on their neighbours.
@@ -128,8 +138,9 @@ def run_family(family, triangulation):
     return figures
 
 
-CASES = [(f, t) for f in families.FAMILIES for t in families.TRIANGULATIONS
-         if not (f == "curved_fold" and t == "irregular")]
+CASES = [
+    (f, t) for f in families.FAMILIES for t in families.TRIANGULATIONS if not (f == "curved_fold" and t == "irregular")
+]
 
 
 @pytest.fixture(scope="module")

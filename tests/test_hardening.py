@@ -28,6 +28,7 @@ SANITIZED = os.environ.get("DEVELOPABLE_SANITIZED") == "1"
 
 # -- helpers -----------------------------------------------------------------------
 
+
 def refused(positions, triangles, pinned=None, progress=None, **params):
     """(status name, message) of a run that must fail (the binding frees any
     result and raises)."""
@@ -55,8 +56,7 @@ def assert_sound(result, positions, tolerance_ae=None):
 
 
 def run_tool(tool_path, *args, env=None, timeout=300):
-    return subprocess.run([str(tool_path), *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout, env=env)
+    return subprocess.run([str(tool_path), *map(str, args)], capture_output=True, text=True, timeout=timeout, env=env)
 
 
 def tool_refuses(tool_path, tmp_path, positions, triangles, words, *args, env=None):
@@ -113,6 +113,7 @@ def weld(positions, triangles):
 
 
 # -- bad inputs not in test_bad_input.py -------------------------------------------
+
 
 def test_one_triangle_has_no_interior_vertex(library):
     status, message = refused(*one_triangle())
@@ -182,8 +183,7 @@ def test_non_manifold_edge_through_the_c_abi_in_a_real_mesh(library):
     a, b = t[20, 0], t[20, 1]
     t = np.vstack([t, [[a, b, len(p) - 1]]]).astype(np.int32)
     status, message = refused(p, t)
-    assert status == "NON_MANIFOLD" and ("edge (%d, %d)" % (a, b) in message
-                                         or "edge (%d, %d)" % (b, a) in message)
+    assert status == "NON_MANIFOLD" and ("edge (%d, %d)" % (a, b) in message or "edge (%d, %d)" % (b, a) in message)
 
 
 def test_inconsistent_orientation_through_the_tool(tool_path, tmp_path):
@@ -262,6 +262,7 @@ def test_any_nonzero_pin_byte_pins(library):
 
 # -- scale ---------------------------------------------------------------------------
 
+
 def relative(result, positions):
     """The result as a fraction of the input's size, about the input's centre."""
     centre = positions.mean(0)
@@ -269,7 +270,7 @@ def relative(result, positions):
     return (result.positions - centre) / size
 
 
-@pytest.mark.parametrize("scale", [2.0 ** -40, 2.0 ** 40])
+@pytest.mark.parametrize("scale", [2.0**-40, 2.0**40])
 def test_power_of_two_scale_gives_the_same_result_exactly(library, scale):
     """Scaling by a power of two is exact in floating point: a scale-invariant
     engine returns the scaled result bit for bit."""
@@ -282,8 +283,7 @@ def test_power_of_two_scale_gives_the_same_result_exactly(library, scale):
     assert np.abs(r2.positions / scale - r1.positions).max() <= 1e-12 * np.abs(p).max()
 
 
-STABLE_SETTINGS = {"refit, 5 iterations": dict(segmentation=0, max_iterations=5),
-                   "paper": dict(mode=native.MODE_PAPER)}
+STABLE_SETTINGS = {"refit, 5 iterations": dict(segmentation=0, max_iterations=5), "paper": dict(mode=native.MODE_PAPER)}
 
 
 @pytest.mark.parametrize("settings", sorted(STABLE_SETTINGS))
@@ -304,8 +304,7 @@ def test_extreme_scale_gives_the_same_relative_result(library, scale, settings):
     # Within 1 %, or both far below the flat threshold, where the polish stops
     # anywhere: 2.37e-10 and 2.24e-10 rad on one machine, equal on another.
     assert r2.stats["mean_defect_after"] == pytest.approx(r1.stats["mean_defect_after"], rel=1e-2, abs=1e-8)
-    assert r2.stats["average_edge_length"] == pytest.approx(r1.stats["average_edge_length"] * scale,
-                                                            rel=1e-12)
+    assert r2.stats["average_edge_length"] == pytest.approx(r1.stats["average_edge_length"] * scale, rel=1e-12)
 
 
 @pytest.mark.parametrize("scale", [1e-12, 1e12])
@@ -351,6 +350,7 @@ def test_far_from_the_origin(library):
 
 # -- polygon soup ---------------------------------------------------------------------
 
+
 def test_polygon_soup_is_refused_with_a_welding_hint(library):
     p, t = polygon_soup()
     status, message = refused(p, t)
@@ -372,6 +372,7 @@ def test_polygon_soup_through_the_tool(tool_path, tmp_path):
 
 
 # -- numerical extremes -----------------------------------------------------------------
+
 
 def sliver_mesh():
     """A noisy grid whose middle column is squeezed to 1e-6 of the spacing:
@@ -476,6 +477,7 @@ def test_pinned_everything_but_one_vertex(library):
 
 # -- limits: memory budget ----------------------------------------------------------------
 
+
 @pytest.fixture
 def small_budget(monkeypatch):
     monkeypatch.setenv("DEVELOPABLE_MEMORY_BUDGET_MB", "64")
@@ -513,10 +515,19 @@ def test_counts_near_the_int32_limit_are_refused_without_reading(library):
     handle = ctypes.c_void_p()
     one = np.zeros(3)
     tri = np.zeros(3, np.int32)
-    status = library.dev_run(one.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), 2 ** 31 + 1,
-                             tri.ctypes.data_as(ctypes.POINTER(ctypes.c_int32)), 1, None, None,
-                             native.PROGRESS_FN(0), None, ctypes.byref(handle), message,
-                             len(message))
+    status = library.dev_run(
+        one.ctypes.data_as(ctypes.POINTER(ctypes.c_double)),
+        2**31 + 1,
+        tri.ctypes.data_as(ctypes.POINTER(ctypes.c_int32)),
+        1,
+        None,
+        None,
+        native.PROGRESS_FN(0),
+        None,
+        ctypes.byref(handle),
+        message,
+        len(message),
+    )
     assert native.STATUS_NAMES[status] == "INVALID_ARGUMENT" and b"2^31" in message.value
     assert not handle.value
 
@@ -552,18 +563,19 @@ def test_two_million_faces_work_or_are_refused_cleanly(library_path, tmp_path):
     run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=1200)
     assert run.returncode == 0, run.stderr[-3000:]
     line = [x for x in run.stdout.splitlines() if x.startswith("RESULT ")][-1]
-    out = json.loads(line[len("RESULT "):])
+    out = json.loads(line[len("RESULT ") :])
     print(out)
     assert out["faces"] >= 2_000_000
     if out["status"] == "OK":
         assert out["finite"] and out["better"]
         # the estimate behind the budget is above what the run really took
-        assert out["peak_mib"] < 2_000_000 * 900 / 2 ** 20 + 400
+        assert out["peak_mib"] < 2_000_000 * 900 / 2**20 + 400
     else:
         assert out["status"] == "OUT_OF_MEMORY" and "memory budget" in out["message"]
 
 
 # -- cancellation --------------------------------------------------------------------------
+
 
 def progress_reports(p, t, **params):
     stages = []
@@ -586,14 +598,17 @@ def test_cancel_at_every_stage(library):
     assert fractions == sorted(fractions) and 0 <= fractions[0] and fractions[-1] <= 1
     reference = native.run(p, t, params=dict(segmentation=1))
     # every stage's first report, plus a spread of the others
-    picks = sorted({next(i for i, (_, s) in enumerate(reports) if s == stage) for stage in stages}
-                   | set(range(0, len(reports), max(1, len(reports) // 8))))
+    picks = sorted(
+        {next(i for i, (_, s) in enumerate(reports) if s == stage) for stage in stages}
+        | set(range(0, len(reports), max(1, len(reports) // 8)))
+    )
     for k in picks:
         seen = []
 
         def cancel_after_k(fraction, stage, k=k):
             seen.append(stage)
             return len(seen) <= k
+
         try:
             whole = native.run(p, t, params=dict(segmentation=1), progress=cancel_after_k)
         except native.EngineError as error:
@@ -610,6 +625,7 @@ def test_cancel_at_every_stage(library):
 
 
 # -- threads ----------------------------------------------------------------------------------
+
 
 def test_two_runs_at_the_same_time_equal_two_runs_in_turn(library):
     """Python threads through ctypes (the GIL is released in dev_run): the
@@ -629,6 +645,7 @@ def test_two_runs_at_the_same_time_equal_two_runs_in_turn(library):
                 results[i] = native.run(p, t, progress=progress, params=settings[i]).positions
             except Exception as error:  # pragma: no cover - reported below
                 errors.append(error)
+
         threads = [threading.Thread(target=work, args=(i,)) for i in range(len(inputs))]
         for th in threads:
             th.start()
@@ -646,6 +663,7 @@ def test_same_mesh_on_two_threads(library):
 
     def work(i):
         out[i] = native.run(p, t).positions
+
     threads = [threading.Thread(target=work, args=(i,)) for i in range(2)]
     for th in threads:
         th.start()
@@ -655,6 +673,7 @@ def test_same_mesh_on_two_threads(library):
 
 
 # -- fuzz corpus replay ------------------------------------------------------------------------
+
 
 @pytest.fixture(scope="session")
 def corpus_replayer(build_dir):
@@ -670,8 +689,6 @@ def corpus_replayer(build_dir):
 def test_fuzz_corpus_replays_cleanly(corpus_replayer):
     files = sorted(p for p in CORPUS.iterdir() if p.is_file()) if CORPUS.is_dir() else []
     assert files, "tests/fuzz_corpus is empty"
-    run = subprocess.run([str(corpus_replayer)] + [str(f) for f in files], capture_output=True,
-                         text=True, timeout=900)
+    run = subprocess.run([str(corpus_replayer)] + [str(f) for f in files], capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stderr[-4000:]
     assert "replayed %d" % len(files) in run.stdout
-

@@ -332,11 +332,16 @@ def run_scenarios(env, tmp_path_factory, names, *extra, xvfb=False, timeout=900)
     Blender start-up); returns their RESULT dicts in order."""
     script = tmp_path_factory.mktemp("hardening") / "hardening_scenarios.py"
     script.write_text(HARDENING % {"scripts": str(SCRIPTS)})
-    proc = run_blender(["--python", str(script), "--", names] + [str(e) for e in extra], env,
-                       timeout=timeout, xvfb=xvfb)
+    proc = run_blender(
+        ["--python", str(script), "--", names] + [str(e) for e in extra], env, timeout=timeout, xvfb=xvfb
+    )
     out = results(proc)
     assert len(out) == len(names.split(",")), "scenarios %s printed %d RESULTs\n%s\n%s" % (
-        names, len(out), proc.stdout[-5000:], proc.stderr[-3000:])
+        names,
+        len(out),
+        proc.stdout[-5000:],
+        proc.stderr[-3000:],
+    )
     assert "traceback" not in proc.stderr.lower(), proc.stderr[-4000:]
     return out
 
@@ -348,13 +353,27 @@ def run_scenario(env, tmp_path_factory, name, *extra, xvfb=False, timeout=600):
 @pytest.fixture(scope="module")
 def background(blender_env, tmp_path_factory):
     """The background scenarios of this file, in one Blender start-up."""
-    return dict(zip(("bad", "good", "cancel_everywhere"),
-                    run_scenarios(blender_env, tmp_path_factory, "bad,good,cancel_everywhere")))
+    return dict(
+        zip(
+            ("bad", "good", "cancel_everywhere"),
+            run_scenarios(blender_env, tmp_path_factory, "bad,good,cancel_everywhere"),
+        )
+    )
 
 
-BAD_CASES = ["no vertices", "one triangle", "single quad", "inf coordinate", "zero area",
-             "duplicate face", "non-manifold vertex", "flipped face", "polygon soup",
-             "every vertex pinned", "memory budget"]
+BAD_CASES = [
+    "no vertices",
+    "one triangle",
+    "single quad",
+    "inf coordinate",
+    "zero area",
+    "duplicate face",
+    "non-manifold vertex",
+    "flipped face",
+    "polygon soup",
+    "every vertex pinned",
+    "memory budget",
+]
 
 
 @pytest.fixture(scope="module")
@@ -393,6 +412,7 @@ def test_loose_vertices_and_edges_are_kept(good):
 @pytest.mark.parametrize("scale", ["1e-12", "1000000000000.0"])
 def test_scaled_object_gives_the_same_relative_result(good, scale):
     import numpy as np
+
     ref, r = good["scale"]["1.0"], good["scale"][scale]
     assert r["result"] == ["FINISHED"], r["error"]
     assert r["finite"] and r["moved"] > 1e-4

@@ -27,13 +27,18 @@ import pytest
 from devkit import builds
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
-ENGINE_TESTS = ["tests/test_engine.py", "tests/test_bad_input.py", "tests/test_tool.py",
-                "tests/test_hardening.py"]
-REPORT_MARKS = ("ERROR: AddressSanitizer", "runtime error:", "ERROR: LeakSanitizer",
-                "ERROR: libFuzzer", "SUMMARY: UndefinedBehaviorSanitizer")
+ENGINE_TESTS = ["tests/test_engine.py", "tests/test_bad_input.py", "tests/test_tool.py", "tests/test_hardening.py"]
+REPORT_MARKS = (
+    "ERROR: AddressSanitizer",
+    "runtime error:",
+    "ERROR: LeakSanitizer",
+    "ERROR: libFuzzer",
+    "SUMMARY: UndefinedBehaviorSanitizer",
+)
 
-pytestmark = pytest.mark.skipif(os.environ.get("DEVELOPABLE_SKIP_SANITIZERS") == "1",
-                                reason="DEVELOPABLE_SKIP_SANITIZERS=1")
+pytestmark = pytest.mark.skipif(
+    os.environ.get("DEVELOPABLE_SKIP_SANITIZERS") == "1", reason="DEVELOPABLE_SKIP_SANITIZERS=1"
+)
 
 
 def cached(make, variable):
@@ -53,8 +58,7 @@ def cached(make, variable):
 # locks) the same cached build, and the tests below are not tied to one worker.
 @pytest.fixture(scope="session")
 def asan_build():
-    if shutil.which("gcc") is None or None in (builds.gcc_runtime("libasan.so"),
-                                                builds.gcc_runtime("libstdc++.so")):
+    if shutil.which("gcc") is None or None in (builds.gcc_runtime("libasan.so"), builds.gcc_runtime("libstdc++.so")):
         pytest.fail("gcc with libasan is needed for the sanitizer run (scripts/setup.sh installs it)")
     yield from cached(builds.asan, "DEVELOPABLE_ASAN_BUILD_DIR")
 
@@ -78,7 +82,7 @@ def sanitizer_env(asan_build):
         # The interpreter's own allocations are never freed at exit: no leak
         # check for it (the fuzz run below checks the engine's leaks).
         ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1:"
-                     "detect_stack_use_after_return=1:check_initialization_order=1",
+        "detect_stack_use_after_return=1:check_initialization_order=1",
         UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1",
     )
     env.pop("DEVELOPABLE_LIBRARY", None)
@@ -89,9 +93,14 @@ def sanitizer_env(asan_build):
 def test_engine_suite_under_asan_and_ubsan(asan_build, tests):
     """One of tests/test_engine.py, test_bad_input.py, test_tool.py and
     test_hardening.py against the ASan build: every test passes, no report."""
-    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", tests],
-                         cwd=REPO, env=sanitizer_env(asan_build),
-                         capture_output=True, text=True, timeout=3600)
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", tests],
+        cwd=REPO,
+        env=sanitizer_env(asan_build),
+        capture_output=True,
+        text=True,
+        timeout=3600,
+    )
     output = run.stdout + run.stderr
     reports = [line for line in output.splitlines() if any(m in line for m in REPORT_MARKS)]
     assert run.returncode == 0 and not reports, output[-8000:]
@@ -110,18 +119,29 @@ def test_fuzz_for_a_minute(fuzz_build, tmp_path):
     inputs go to a temporary folder, not into the repository."""
     seconds = int(os.environ.get("FUZZ_SECONDS", "60"))
     (tmp_path / "corpus").mkdir()
-    env = dict(os.environ, UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1",
-               ASAN_OPTIONS="detect_leaks=1")
+    env = dict(os.environ, UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1", ASAN_OPTIONS="detect_leaks=1")
     with open(tmp_path / "fuzz.log", "w+") as log:
-        proc = subprocess.run([str(fuzz_build / "bin" / "fuzz_c_api"), "-max_total_time=%d" % seconds,
-                               "-timeout=20", "-rss_limit_mb=2048", "-max_len=4096",
-                               "-artifact_prefix=%s/" % tmp_path, str(tmp_path / "corpus"),
-                               str(REPO / "tests" / "fuzz_corpus")],
-                              env=env, stdout=subprocess.DEVNULL, stderr=log, timeout=seconds + 600)
+        proc = subprocess.run(
+            [
+                str(fuzz_build / "bin" / "fuzz_c_api"),
+                "-max_total_time=%d" % seconds,
+                "-timeout=20",
+                "-rss_limit_mb=2048",
+                "-max_len=4096",
+                "-artifact_prefix=%s/" % tmp_path,
+                str(tmp_path / "corpus"),
+                str(REPO / "tests" / "fuzz_corpus"),
+            ],
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=log,
+            timeout=seconds + 600,
+        )
         log.seek(0)
         stderr = log.read()
     crashes = [p.name for p in tmp_path.iterdir() if p.name.startswith(("crash-", "leak-", "oom-", "timeout-"))]
     assert proc.returncode == 0 and not crashes, (
         "the fuzzer found a failing input (%s); replay it with %s/bin/fuzz_c_api FILE and "
-        "add it to tests/fuzz_corpus once fixed\n%s" % (crashes, fuzz_build, stderr[-6000:]))
+        "add it to tests/fuzz_corpus once fixed\n%s" % (crashes, fuzz_build, stderr[-6000:])
+    )
     assert "Done" in stderr

@@ -74,16 +74,22 @@ def test_whole_objects_come_back_honest_and_in_shape(runs, kind):
         where = "%s seed %d (%d faces, noise %.3f AE)" % (kind, seed, len(m.triangles), m.noise)
         check_honest(m.positions, m.triangles, r)
         assert s["patches"] > 1, where
-        creased = sharpened_edges(m.positions, r.positions, m.triangles, patch_ids=r.patch_ids,
-                                  growth_degrees=20.0 + 1e-6)
+        creased = sharpened_edges(
+            m.positions, r.positions, m.triangles, patch_ids=r.patch_ids, growth_degrees=20.0 + 1e-6
+        )
         assert len(creased) == 0, (where, len(creased))
         distance = sampled_hausdorff(r.positions, m.triangles, m.positions, m.triangles)
         assert distance <= 0.015 * bbox_diagonal(m.positions), where
         improved += s["result"] == native.RESULT_IMPROVED
-        if s["unchanged_reason"] in (native.UNCHANGED_REJECTED, native.UNCHANGED_NO_BETTER_ITERATE,
-                                     native.UNCHANGED_NO_VISIBLE_GAIN):
-            assert "also when split twice as finely" in s["result_message"] or \
-                "Split twice as finely" in s["result_message"], (where, s["result_message"])
+        if s["unchanged_reason"] in (
+            native.UNCHANGED_REJECTED,
+            native.UNCHANGED_NO_BETTER_ITERATE,
+            native.UNCHANGED_NO_VISIBLE_GAIN,
+        ):
+            assert (
+                "also when split twice as finely" in s["result_message"]
+                or "Split twice as finely" in s["result_message"]
+            ), (where, s["result_message"])
     assert improved >= 1, kind
 
 

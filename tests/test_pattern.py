@@ -10,8 +10,7 @@ import pytest
 
 from devkit import meshes
 from devkit.obj import read_obj
-from pattern_support import (edge_strain, face_areas, load_native, overlapping_triangles, read_png,
-                             signed_areas)
+from pattern_support import edge_strain, face_areas, load_native, overlapping_triangles, read_png, signed_areas
 
 SEAM_COLOUR = "#c0392b"
 
@@ -35,8 +34,9 @@ def exact_shapes():
 
 def dihedral_range_degrees(positions, triangles):
     """Largest bend between two faces sharing an edge, degrees (0 = flat)."""
-    n = np.cross(positions[triangles[:, 1]] - positions[triangles[:, 0]],
-                 positions[triangles[:, 2]] - positions[triangles[:, 0]])
+    n = np.cross(
+        positions[triangles[:, 1]] - positions[triangles[:, 0]], positions[triangles[:, 2]] - positions[triangles[:, 0]]
+    )
     n /= np.linalg.norm(n, axis=1)[:, None]
     faces_of = {}
     for f, t in enumerate(triangles):
@@ -55,8 +55,9 @@ def test_curved_fold_is_folded_and_flat():
         for k in range(3):
             u = pos[tri[:, (k + 1) % 3]] - pos[tri[:, k]]
             v = pos[tri[:, (k + 2) % 3]] - pos[tri[:, k]]
-            angle += np.bincount(tri[:, k], np.arctan2(np.linalg.norm(np.cross(u, v), axis=1),
-                                                      (u * v).sum(1)), len(pos))
+            angle += np.bincount(
+                tri[:, k], np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), (u * v).sum(1)), len(pos)
+            )
         interior = np.abs(angle - 2 * np.pi) < 1.0  # boundary vertices sum to about pi or less
         assert interior.sum() > 100
         assert np.abs(angle[interior] - 2 * np.pi).max() < 1e-12
@@ -121,8 +122,7 @@ def test_sphere_caps_report_growing_strain(native):
     assert all(b > a for a, b in zip(areas, areas[1:])), areas
     assert strains[0] > 1e-3 and strains[-1] > 0.3
     # With the default seam tolerance the cap is split instead, more for larger caps.
-    counts = [native.unfold(*meshes.sphere_cap(a), params={"layout": 0}).stats["pieces"]
-              for a in (15, 60, 120)]
+    counts = [native.unfold(*meshes.sphere_cap(a), params={"layout": 0}).stats["pieces"] for a in (15, 60, 120)]
     assert counts[0] < counts[1] < counts[2]
 
 
@@ -153,8 +153,7 @@ def woman_result(native, meshes_dir):
 def woman_pattern(native, woman_result, tmp_path_factory):
     result, tri = woman_result
     out = tmp_path_factory.mktemp("woman") / "woman.svg"
-    pattern = native.unfold(result.positions, tri, result.patch_ids, params={"scale": 0},
-                            svg_path=str(out))
+    pattern = native.unfold(result.positions, tri, result.patch_ids, params={"scale": 0}, svg_path=str(out))
     return result.positions, tri, pattern
 
 
@@ -199,8 +198,7 @@ def test_human_woman_seams_match(woman_pattern):
     for seam in pattern.seams:
         assert abs(seam["length_a"] - seam["length_b"]) <= 0.005 * seam["length_3d"], seam
         edges = seam["vertices"]
-        assert np.isclose(np.linalg.norm(pos[edges[:, 0]] - pos[edges[:, 1]], axis=1).sum(),
-                          seam["length_3d"])
+        assert np.isclose(np.linalg.norm(pos[edges[:, 0]] - pos[edges[:, 1]], axis=1).sum(), seam["length_3d"])
     # Both sides of every seam carry its label on the sheets.
     labels = seam_labels_in_svgs(pattern.files)
     counts = {}
@@ -234,10 +232,8 @@ def test_seams_follow_pieces(native):
     piece = pattern.piece_ids
     for seam in pattern.seams:
         for a, b in seam["vertices"]:
-            left = [f for f in range(len(tri)) if any(tri[f][k] == a and tri[f][(k + 1) % 3] == b
-                                                      for k in range(3))]
-            right = [f for f in range(len(tri)) if any(tri[f][k] == b and tri[f][(k + 1) % 3] == a
-                                                       for k in range(3))]
+            left = [f for f in range(len(tri)) if any(tri[f][k] == a and tri[f][(k + 1) % 3] == b for k in range(3))]
+            right = [f for f in range(len(tri)) if any(tri[f][k] == b and tri[f][(k + 1) % 3] == a for k in range(3))]
             assert piece[left[0]] == seam["piece_a"] and piece[right[0]] == seam["piece_b"]
 
 
@@ -262,7 +258,7 @@ def test_scale_is_true_on_the_rasterised_sheet(native, tmp_path):
     image = rasterise(svg, tmp_path / "plane.png", 254)
     assert image.shape[:2] == (2970, 2100)
     rgb = image[..., :3].astype(int)
-    fill = (np.abs(rgb - [0xdb, 0xe8, 0xf6]).sum(axis=2) < 12)  # the piece's fill colour
+    fill = np.abs(rgb - [0xDB, 0xE8, 0xF6]).sum(axis=2) < 12  # the piece's fill colour
     ys, xs = np.nonzero(fill)
     width_px = xs.max() - xs.min() + 1
     height_px = ys.max() - ys.min() + 1
@@ -272,7 +268,7 @@ def test_scale_is_true_on_the_rasterised_sheet(native, tmp_path):
     svg_cm = tmp_path / "plane_cm.svg"
     native.unfold(pos * 100, tri, params={"scale": 0.5, "unit_name": "cm"}, svg_path=str(svg_cm))
     rgb = rasterise(svg_cm, tmp_path / "plane_cm.png", 254)[..., :3].astype(int)
-    ys, xs = np.nonzero(np.abs(rgb - [0xdb, 0xe8, 0xf6]).sum(axis=2) < 12)
+    ys, xs = np.nonzero(np.abs(rgb - [0xDB, 0xE8, 0xF6]).sum(axis=2) < 12)
     assert abs(xs.max() - xs.min() + 1 - 500) <= 4 and abs(ys.max() - ys.min() + 1 - 250) <= 4
 
 
@@ -314,8 +310,9 @@ def test_seam_allowance_surrounds_every_piece(native, woman_result, woman_patter
     (engine, tri), (_, _, pattern) = woman_result, woman_pattern
     allowance, spacing = 3.0, 4.0
     out = tmp_path / "woman.svg"
-    result = native.unfold(engine.positions, tri, engine.patch_ids,
-                           params={"scale": 0, "seam_allowance_mm": allowance}, svg_path=str(out))
+    result = native.unfold(
+        engine.positions, tri, engine.patch_ids, params={"scale": 0, "seam_allowance_mm": allowance}, svg_path=str(out)
+    )
     assert result.stats["cut_lines_from_hull"] == 0
     assert result.stats["pieces"] == pattern.stats["pieces"]
     boxes = []
@@ -346,8 +343,10 @@ def self_crossings(polygon):
     e = b - a
 
     def side(p, q, r):
-        return np.sign((q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) -
-                       (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0]))
+        return np.sign(
+            (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+        )
+
     A, B = a[:, None], b[:, None]
     C, D = a[None], b[None]
     cross = (side(A, B, C) * side(A, B, D) < 0) & (side(C, D, A) * side(C, D, B) < 0)
@@ -363,8 +362,9 @@ def test_glue_tabs_on_every_piece_that_has_room(native, woman_result, tmp_path):
     # on side a alone, 77 now.
     engine, tri = woman_result
     out = tmp_path / "woman.svg"
-    result = native.unfold(engine.positions, tri, engine.patch_ids, params={"scale": 0, "glue_tabs_mm": 3.0},
-                           svg_path=str(out))
+    result = native.unfold(
+        engine.positions, tri, engine.patch_ids, params={"scale": 0, "glue_tabs_mm": 3.0}, svg_path=str(out)
+    )
     st = result.stats
     assert st["glue_tabs"] >= 0.95 * st["seams"] and st["glue_tabs"] + st["glue_tabs_dropped"] >= st["seams"]
     assert st["glue_tabs_dropped"] <= 0.05 * st["seams"]
@@ -378,12 +378,17 @@ def test_glue_tabs_on_every_piece_that_has_room(native, woman_result, tmp_path):
             on = distance_to_polyline(corners, line) < 1e-6
             assert (on | inside_polygon(corners, line)).all(), label
             assert abs(polygon_area(line)) >= abs(polygon_area(corners)) - 1e-9, label
-        folds += sum(1 for g in ET.parse(path).getroot().iter(SVG + "g") if g.get("id") == "fold-lines"
-                     for _ in g.iter(SVG + "path"))
+        folds += sum(
+            1
+            for g in ET.parse(path).getroot().iter(SVG + "g")
+            if g.get("id") == "fold-lines"
+            for _ in g.iter(SVG + "path")
+        )
     assert folds == st["glue_tabs"]
     with pytest.raises(native.EngineError) as err:
-        native.unfold(engine.positions, tri, engine.patch_ids,
-                      params={"scale": 0, "glue_tabs_mm": 3.0, "seam_allowance_mm": 3.0})
+        native.unfold(
+            engine.positions, tri, engine.patch_ids, params={"scale": 0, "glue_tabs_mm": 3.0, "seam_allowance_mm": 3.0}
+        )
     assert "not both" in err.value.message
 
 
@@ -396,8 +401,8 @@ def test_seam_allowance_on_the_rasterised_sheet(native, tmp_path):
     svg = tmp_path / "plane.svg"
     native.unfold(pos, tri, params={"scale": 1.0, "seam_allowance_mm": 10.0}, svg_path=str(svg))
     rgb = rasterise(svg, tmp_path / "plane.png", 254)[..., :3].astype(int)
-    piece = np.abs(rgb - [0xdb, 0xe8, 0xf6]).sum(axis=2) < 12
-    band = np.abs(rgb - [0xee, 0xf4, 0xfb]).sum(axis=2) < 12
+    piece = np.abs(rgb - [0xDB, 0xE8, 0xF6]).sum(axis=2) < 12
+    band = np.abs(rgb - [0xEE, 0xF4, 0xFB]).sum(axis=2) < 12
     ys, xs = np.nonzero(piece)
     assert abs(xs.max() - xs.min() + 1 - 1000) <= 4 and abs(ys.max() - ys.min() + 1 - 500) <= 4
     ys, xs = np.nonzero(band)
@@ -431,8 +436,15 @@ def test_bad_input_gets_a_status(native, tmp_path):
     with pytest.raises(native.EngineError) as err:  # a 2 m x 1.6 m plane at 1:1 on A4
         native.unfold(pos, tri)
     assert err.value.status_name == "INVALID_ARGUMENT" and "1:10" in err.value.message
-    for bad in ({"sheet_width_mm": 0}, {"scale": -1}, {"margin_mm": 200}, {"seam_tolerance": -1},
-                {"seam_allowance_mm": -1}, {"seam_allowance_mm": float("nan")}, {"glue_tabs_mm": -2}):
+    for bad in (
+        {"sheet_width_mm": 0},
+        {"scale": -1},
+        {"margin_mm": 200},
+        {"seam_tolerance": -1},
+        {"seam_allowance_mm": -1},
+        {"seam_allowance_mm": float("nan")},
+        {"glue_tabs_mm": -2},
+    ):
         with pytest.raises(native.EngineError) as err:
             native.unfold(pos, tri, params=dict(bad, scale=bad.get("scale", 0)))
         assert err.value.status_name == "INVALID_ARGUMENT"

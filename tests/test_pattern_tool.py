@@ -19,8 +19,22 @@ def test_tool_writes_the_pattern_and_reports_it(tool_path, tmp_path):
     mesh = tmp_path / "cone.obj"
     write_obj(mesh, pos * 10, tri)  # 10 x the unit band, in cm: about 30 cm across
     report = tmp_path / "report.json"
-    proc = run_tool(tool_path, mesh, tmp_path / "out.obj", "--quiet", "--pattern", tmp_path / "p.svg",
-                    "--sheet", "a3", "--unit", "cm", "--scale", "auto", "--report", report)
+    proc = run_tool(
+        tool_path,
+        mesh,
+        tmp_path / "out.obj",
+        "--quiet",
+        "--pattern",
+        tmp_path / "p.svg",
+        "--sheet",
+        "a3",
+        "--unit",
+        "cm",
+        "--scale",
+        "auto",
+        "--report",
+        report,
+    )
     assert proc.returncode == 0, proc.stderr
     data = json.loads(report.read_text())["pattern"]
     assert data["parameters"]["unit"] == "cm" and data["parameters"]["unit_mm"] == 10
@@ -56,8 +70,19 @@ def pattern_of_a_plane_in_inches(tool_path, tmp_path, *options):
     mesh = tmp_path / "plane.obj"
     write_obj(mesh, pos, tri)
     report = tmp_path / "r.json"
-    proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
-                    "--unit", "in", "--report", report, *options)
+    proc = run_tool(
+        tool_path,
+        mesh,
+        tmp_path / "o.obj",
+        "--quiet",
+        "--pattern",
+        tmp_path / "p.svg",
+        "--unit",
+        "in",
+        "--report",
+        report,
+        *options,
+    )
     assert proc.returncode == 0, proc.stderr
     return proc, json.loads(report.read_text())["pattern"]
 
@@ -83,8 +108,16 @@ def test_tool_seam_allowance(tool_path, tmp_path):
     groups = {g.get("id"): g for g in root.iter("{http://www.w3.org/2000/svg}g")}
     assert "seam-lines" in groups and groups["seam-lines"].get("stroke-dasharray")
     for bad in ("-1", "nan"):
-        proc = run_tool(tool_path, tmp_path / "plane.obj", tmp_path / "o.obj", "--quiet", "--pattern",
-                        tmp_path / "p.svg", "--seam-allowance", bad)
+        proc = run_tool(
+            tool_path,
+            tmp_path / "plane.obj",
+            tmp_path / "o.obj",
+            "--quiet",
+            "--pattern",
+            tmp_path / "p.svg",
+            "--seam-allowance",
+            bad,
+        )
         assert proc.returncode != 0 and "seam" in proc.stderr and "allowance" in proc.stderr, proc.stderr
 
 
@@ -95,8 +128,22 @@ def test_tool_glue_tabs(tool_path, tmp_path):
     mesh = tmp_path / "band.obj"
     write_obj(mesh, pos * 10, tri)
     report = tmp_path / "r.json"
-    proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
-                    "--unit", "cm", "--scale", "auto", "--glue-tabs", "5", "--report", report)
+    proc = run_tool(
+        tool_path,
+        mesh,
+        tmp_path / "o.obj",
+        "--quiet",
+        "--pattern",
+        tmp_path / "p.svg",
+        "--unit",
+        "cm",
+        "--scale",
+        "auto",
+        "--glue-tabs",
+        "5",
+        "--report",
+        report,
+    )
     assert proc.returncode == 0, proc.stderr
     data = json.loads(report.read_text())["pattern"]
     assert data["parameters"]["glue_tabs_mm"] == 5
@@ -104,6 +151,16 @@ def test_tool_glue_tabs(tool_path, tmp_path):
     root = ET.parse(tmp_path / "p.svg").getroot()
     groups = {g.get("id"): g for g in root.iter("{http://www.w3.org/2000/svg}g")}
     assert len(list(groups["fold-lines"].iter("{http://www.w3.org/2000/svg}path"))) == 1
-    proc = run_tool(tool_path, mesh, tmp_path / "o.obj", "--quiet", "--pattern", tmp_path / "p.svg",
-                    "--glue-tabs", "5", "--seam-allowance", "5")
+    proc = run_tool(
+        tool_path,
+        mesh,
+        tmp_path / "o.obj",
+        "--quiet",
+        "--pattern",
+        tmp_path / "p.svg",
+        "--glue-tabs",
+        "5",
+        "--seam-allowance",
+        "5",
+    )
     assert proc.returncode == 2 and "not both" in proc.stderr

@@ -41,8 +41,7 @@ def uv_sphere(rings=24, segments=48):
     theta = np.linspace(0, np.pi, rings + 1)[1:-1]
     phi = np.linspace(0, 2 * np.pi, segments, endpoint=False)
     t, p = np.meshgrid(theta, phi, indexing="ij")
-    points = np.c_[np.sin(t).ravel() * np.cos(p).ravel(), np.sin(t).ravel() * np.sin(p).ravel(),
-                   np.cos(t).ravel()]
+    points = np.c_[np.sin(t).ravel() * np.cos(p).ravel(), np.sin(t).ravel() * np.sin(p).ravel(), np.cos(t).ravel()]
     points = np.vstack([points, [0, 0, 1], [0, 0, -1]])
     north, south = len(points) - 2, len(points) - 1
     tris = []
@@ -107,8 +106,6 @@ def test_a_capped_solid_is_not_moved_for_nothing(seed):
     assert result.stats["result_message"].startswith("Returned the input unchanged")
 
 
-
-
 @pytest.mark.parametrize("seed", range(3))
 def test_a_piecewise_developable_mesh_is_said_so(seed):
     """An open box: every vertex inside its sides is flat, its curvature on
@@ -140,8 +137,9 @@ def test_a_torus_of_cone_frusta_is_said_developable_piecewise():
 def test_piecewise_developable_is_not_said_of_a_torus_that_is_not(seed):
     """Every other ring turned: no ring of quads is a cone frustum."""
     rng = np.random.default_rng(seed)
-    positions, triangles = meshes.ring_torus(int(rng.integers(24, 65)), 2 * int(rng.integers(6, 13)),
-                                      rng.uniform(0.2, 0.6), stagger=1.0)
+    positions, triangles = meshes.ring_torus(
+        int(rng.integers(24, 65)), 2 * int(rng.integers(6, 13)), rng.uniform(0.2, 0.6), stagger=1.0
+    )
     result = native.run(positions, triangles)
     check_honest(positions, triangles, result)
     assert result.stats["unchanged_reason"] != native.UNCHANGED_DEVELOPABLE_PIECEWISE
@@ -155,17 +153,28 @@ def test_whole_objects_are_never_folded_or_made_worse(meshes_dir, name):
     check_honest(positions, triangles, result)
 
 
-@pytest.mark.parametrize("mesh, line", [
-    ("plane", "note: "),          # developable already: nothing to do is no failure
-    ("capped cone", "WARNING: "),  # nothing better found: the user must know
-])
+@pytest.mark.parametrize(
+    "mesh, line",
+    [
+        ("plane", "note: "),  # developable already: nothing to do is no failure
+        ("capped cone", "WARNING: "),  # nothing better found: the user must know
+    ],
+)
 def test_the_tool_says_when_it_returns_the_input(tool_path, tmp_path, mesh, line):
-    positions, triangles = meshes.plane() if mesh == "plane" else \
-        capped_solid(np.random.default_rng(0), apex=True)
+    positions, triangles = meshes.plane() if mesh == "plane" else capped_solid(np.random.default_rng(0), apex=True)
     write_obj(tmp_path / "in.obj", positions, triangles)
-    run = subprocess.run([str(tool_path), str(tmp_path / "in.obj"), str(tmp_path / "out.obj"),
-                          "--quiet", "--report", str(tmp_path / "r.json")],
-                         capture_output=True, text=True)
+    run = subprocess.run(
+        [
+            str(tool_path),
+            str(tmp_path / "in.obj"),
+            str(tmp_path / "out.obj"),
+            "--quiet",
+            "--report",
+            str(tmp_path / "r.json"),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert run.returncode == 0, run.stderr
     assert run.stderr.startswith(line) and "unchanged" in run.stderr
     stats = json.loads((tmp_path / "r.json").read_text())["stats"]
@@ -177,8 +186,11 @@ def test_the_tool_says_when_it_returns_the_input(tool_path, tmp_path, mesh, line
 def test_the_tool_reports_an_honest_improvement(tool_path, tmp_path):
     positions, triangles = meshes.noisy_cylinder_patch()
     write_obj(tmp_path / "patch.obj", positions, triangles)
-    run = subprocess.run([str(tool_path), str(tmp_path / "patch.obj"), str(tmp_path / "out.obj"),
-                          "--report", str(tmp_path / "r.json")], capture_output=True, text=True)
+    run = subprocess.run(
+        [str(tool_path), str(tmp_path / "patch.obj"), str(tmp_path / "out.obj"), "--report", str(tmp_path / "r.json")],
+        capture_output=True,
+        text=True,
+    )
     assert run.returncode == 0, run.stderr
     stats = json.loads((tmp_path / "r.json").read_text())["stats"]
     assert stats["result"] == "improved" and stats["faces_turned_over"] == 0

@@ -35,6 +35,11 @@ def test_rounding_does_not_decide_a_whole_objects_flat_share(meshes_dir, name):
         assert stats["result"] == native.RESULT_IMPROVED, label
         assert stats["faces_turned_over"] == 0, label
         # Within a tenth of the original's flat share (hand 50 %, spot 52 %).
-        assert stats["flat_share_after"] >= 0.9 * reference["flat_share_after"], \
-            "%s %s: %.1f %% flat against %.1f %%" % (name, label, 100 * stats["flat_share_after"],
-                                                      100 * reference["flat_share_after"])
+        assert (
+            stats["flat_share_after"] >= 0.9 * reference["flat_share_after"]
+        ), "%s %s: %.1f %% flat against %.1f %%" % (
+            name,
+            label,
+            100 * stats["flat_share_after"],
+            100 * reference["flat_share_after"],
+        )

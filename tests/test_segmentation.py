@@ -47,12 +47,14 @@ def test_segmentation_off_gives_one_patch(library, meshes_dir):
     assert result.stats["patches"] == 1 and not result.patch_ids.any()
 
 
-@pytest.mark.parametrize("family,triangulation,seed", [
-    ("tangent_random", "alternating", 0),  # the one-curve fit calls their Gauss images blobs
-    ("generalized_cone", "slivers", 0),
-])
-def test_automatic_segmentation_gives_way_to_one_patch_that_is_more_developable(library, family, triangulation,
-                                                                               seed):
+@pytest.mark.parametrize(
+    "family,triangulation,seed",
+    [
+        ("tangent_random", "alternating", 0),  # the one-curve fit calls their Gauss images blobs
+        ("generalized_cone", "slivers", 0),
+    ],
+)
+def test_automatic_segmentation_gives_way_to_one_patch_that_is_more_developable(library, family, triangulation, seed):
     """A noisy developable whose Gauss image the one-curve fit fails on gets
     a misfit that asks for segmentation; split, it ends less developable than
     as one patch, and the automatic choice returns the one-patch run
@@ -158,8 +160,9 @@ def test_piecewise_developable_meshes_keep_their_shape(library, meshes_dir, name
 # mean |defect|); the fold-free step reaches less (human_woman at 60 patches
 # and 1.4 AE: 38 % flat instead of 55 %; the torus's mean |defect| rises with
 # every flatter iterate, so it comes back unchanged).
-FOLDS_XFAIL = pytest.mark.xfail(strict=True, reason="issue 11: reached only by folding; the "
-                                "fold-free step does not reach it yet")
+FOLDS_XFAIL = pytest.mark.xfail(
+    strict=True, reason="issue 11: reached only by folding; the " "fold-free step does not reach it yet"
+)
 
 
 def patch_inside(triangles, patch_ids, interior):

@@ -10,15 +10,26 @@ from devkit.obj import read_obj, write_obj
 
 
 def run_tool(tool_path, *args):
-    return subprocess.run([str(tool_path), *map(str, args)], capture_output=True, text=True,
-                          timeout=120)
+    return subprocess.run([str(tool_path), *map(str, args)], capture_output=True, text=True, timeout=120)
 
 
 def test_help(tool_path):
     run = run_tool(tool_path, "--help")
     assert run.returncode == 0
-    for option in ("--omega", "--tolerance", "--max-iterations", "--mode", "--pin-boundary",
-                   "--pin", "--report", "--quiet", "--segmentation", "--seams", "--max-move", "--polish"):
+    for option in (
+        "--omega",
+        "--tolerance",
+        "--max-iterations",
+        "--mode",
+        "--pin-boundary",
+        "--pin",
+        "--report",
+        "--quiet",
+        "--segmentation",
+        "--seams",
+        "--max-move",
+        "--polish",
+    ):
         assert option in run.stdout
 
 
@@ -43,8 +54,22 @@ def test_run_with_report_and_pins(tool_path, tmp_path):
     pins = tmp_path / "pins.txt"
     pinned = [0, 5, 715]  # on the boundary rings: an interior pin would hold the bulge
     pins.write_text("\n".join(map(str, pinned)) + "\n")
-    run = run_tool(tool_path, source, target, "--pin-boundary", "--pin", pins, "--tolerance", "10",
-                   "--max-move", "0", "--omega", "5", "--report", report)
+    run = run_tool(
+        tool_path,
+        source,
+        target,
+        "--pin-boundary",
+        "--pin",
+        pins,
+        "--tolerance",
+        "10",
+        "--max-move",
+        "0",
+        "--omega",
+        "5",
+        "--report",
+        report,
+    )
     assert run.returncode == 0, run.stderr
     assert "E_before" in run.stderr and "t_T" in run.stderr
     data = json.loads(report.read_text())
@@ -78,13 +103,16 @@ def test_quiet_prints_nothing(tool_path, tmp_path):
     assert run.returncode == 0 and run.stdout == "" and run.stderr == ""
 
 
-@pytest.mark.parametrize("args,words", [
-    (["--omega"], "needs a value"),
-    (["--omega", "abc"], "needs a number"),
-    (["--mode", "fast"], "unknown value"),
-    (["--frobnicate"], "unknown option"),
-    (["--max-iterations", "2.5"], "whole number"),
-])
+@pytest.mark.parametrize(
+    "args,words",
+    [
+        (["--omega"], "needs a value"),
+        (["--omega", "abc"], "needs a number"),
+        (["--mode", "fast"], "unknown value"),
+        (["--frobnicate"], "unknown option"),
+        (["--max-iterations", "2.5"], "whole number"),
+    ],
+)
 def test_bad_options(tool_path, tmp_path, args, words):
     positions, triangles = meshes.plane()
     source = tmp_path / "in.obj"

@@ -20,7 +20,7 @@
 //
 // Built by -DDEVELOPABLE_FUZZ=ON with clang (CMakeLists.txt); run by
 // scripts/fuzz.sh; the corpus lives in tests/fuzz_corpus/.
-#include "developable.h"
+#include "api/developable.h"
 
 #include <fuzzer/FuzzedDataProvider.h>
 
@@ -45,15 +45,24 @@ void require(bool ok, const char* what) {
 
 double fuzzed_coordinate(FuzzedDataProvider& data) {
   switch (data.ConsumeIntegralInRange<int>(0, 15)) {
-    case 0: return std::numeric_limits<double>::quiet_NaN();
-    case 1: return std::numeric_limits<double>::infinity();
-    case 2: return -std::numeric_limits<double>::infinity();
-    case 3: return std::numeric_limits<double>::max();
-    case 4: return std::numeric_limits<double>::denorm_min();
-    case 5: return data.ConsumeFloatingPoint<double>();  // anything, incl. huge
-    case 6: return 1e12 * data.ConsumeFloatingPointInRange<double>(-1.0, 1.0);
-    case 7: return 1e-12 * data.ConsumeFloatingPointInRange<double>(-1.0, 1.0);
-    default: return data.ConsumeFloatingPointInRange<double>(-4.0, 4.0);
+    case 0:
+      return std::numeric_limits<double>::quiet_NaN();
+    case 1:
+      return std::numeric_limits<double>::infinity();
+    case 2:
+      return -std::numeric_limits<double>::infinity();
+    case 3:
+      return std::numeric_limits<double>::max();
+    case 4:
+      return std::numeric_limits<double>::denorm_min();
+    case 5:
+      return data.ConsumeFloatingPoint<double>();  // anything, incl. huge
+    case 6:
+      return 1e12 * data.ConsumeFloatingPointInRange<double>(-1.0, 1.0);
+    case 7:
+      return 1e-12 * data.ConsumeFloatingPointInRange<double>(-1.0, 1.0);
+    default:
+      return data.ConsumeFloatingPointInRange<double>(-4.0, 4.0);
   }
 }
 
@@ -67,13 +76,20 @@ double fuzzed_parameter(FuzzedDataProvider& data, double usual_low, double usual
     return data.ConsumeFloatingPointInRange<double>(usual_low, usual_high);
   }
   switch (data.ConsumeIntegralInRange<int>(0, 9)) {
-    case 0: return std::numeric_limits<double>::quiet_NaN();
-    case 1: return std::numeric_limits<double>::infinity();
-    case 2: return -data.ConsumeFloatingPointInRange<double>(0.0, 10.0);
-    case 3: return 0.0;
-    case 4: return data.ConsumeFloatingPoint<double>();
-    case 5: return std::pow(10.0, data.ConsumeFloatingPointInRange<double>(-12.0, 12.0));
-    default: return data.ConsumeFloatingPointInRange<double>(usual_low, usual_high);
+    case 0:
+      return std::numeric_limits<double>::quiet_NaN();
+    case 1:
+      return std::numeric_limits<double>::infinity();
+    case 2:
+      return -data.ConsumeFloatingPointInRange<double>(0.0, 10.0);
+    case 3:
+      return 0.0;
+    case 4:
+      return data.ConsumeFloatingPoint<double>();
+    case 5:
+      return std::pow(10.0, data.ConsumeFloatingPointInRange<double>(-12.0, 12.0));
+    default:
+      return data.ConsumeFloatingPointInRange<double>(usual_low, usual_high);
   }
 }
 
@@ -119,8 +135,10 @@ Mesh raw_mesh(FuzzedDataProvider& data) {
   for (int i = 0; i < 3 * vertices; ++i) m.positions.push_back(fuzzed_coordinate(data));
   for (int i = 0; i < 3 * triangles; ++i) {
     const int kind = data.ConsumeIntegralInRange<int>(0, 15);
-    if (kind == 0) m.triangles.push_back(data.ConsumeIntegral<int32_t>());
-    else m.triangles.push_back(data.ConsumeIntegralInRange<int32_t>(-1, vertices));
+    if (kind == 0)
+      m.triangles.push_back(data.ConsumeIntegral<int32_t>());
+    else
+      m.triangles.push_back(data.ConsumeIntegralInRange<int32_t>(-1, vertices));
   }
   return m;
 }
@@ -156,8 +174,10 @@ Mesh grid_mesh(FuzzedDataProvider& data) {
     for (int j = 0; j < span; ++j) {
       const int a = i * cols + j, b = i * cols + (j + 1) % cols;
       const int c = (i + 1) * cols + j, d = (i + 1) * cols + (j + 1) % cols;
-      if (data.ConsumeBool()) m.triangles.insert(m.triangles.end(), {a, b, d, a, d, c});
-      else m.triangles.insert(m.triangles.end(), {a, b, c, b, d, c});
+      if (data.ConsumeBool())
+        m.triangles.insert(m.triangles.end(), {a, b, d, a, d, c});
+      else
+        m.triangles.insert(m.triangles.end(), {a, b, c, b, d, c});
     }
   }
   // A few edits: move a vertex anywhere (incl. NaN), rewrite an index,
@@ -167,18 +187,25 @@ Mesh grid_mesh(FuzzedDataProvider& data) {
   for (int e = 0; e < edits && !m.triangles.empty(); ++e) {
     const size_t t = data.ConsumeIntegralInRange<size_t>(0, m.triangles.size() / 3 - 1);
     switch (data.ConsumeIntegralInRange<int>(0, 5)) {
-      case 0: m.positions[data.ConsumeIntegralInRange<size_t>(0, m.positions.size() - 1)] =
-                  fuzzed_coordinate(data);
+      case 0:
+        m.positions[data.ConsumeIntegralInRange<size_t>(0, m.positions.size() - 1)] = fuzzed_coordinate(data);
         break;
-      case 1: m.triangles[3 * t + data.ConsumeIntegralInRange<size_t>(0, 2)] =
-                  data.ConsumeIntegralInRange<int32_t>(-2, static_cast<int32_t>(m.vertex_count()) + 1);
+      case 1:
+        m.triangles[3 * t + data.ConsumeIntegralInRange<size_t>(0, 2)] =
+            data.ConsumeIntegralInRange<int32_t>(-2, static_cast<int32_t>(m.vertex_count()) + 1);
         break;
-      case 2: std::swap(m.triangles[3 * t + 1], m.triangles[3 * t + 2]); break;
-      case 3: m.triangles.insert(m.triangles.end(), m.triangles.begin() + 3 * t,
-                                 m.triangles.begin() + 3 * t + 3);
+      case 2:
+        std::swap(m.triangles[3 * t + 1], m.triangles[3 * t + 2]);
         break;
-      case 4: m.triangles.resize(m.triangles.size() - 3); break;
-      default: m.positions.insert(m.positions.end(), {0.5 * scale, 0.5 * scale, 9.0 * scale}); break;
+      case 3:
+        m.triangles.insert(m.triangles.end(), m.triangles.begin() + 3 * t, m.triangles.begin() + 3 * t + 3);
+        break;
+      case 4:
+        m.triangles.resize(m.triangles.size() - 3);
+        break;
+      default:
+        m.positions.insert(m.positions.end(), {0.5 * scale, 0.5 * scale, 9.0 * scale});
+        break;
     }
   }
   return m;
@@ -216,8 +243,10 @@ double score(const std::vector<double>& defects, const std::vector<uint8_t>& int
     for (size_t f = 0; f < patch_ids.size(); ++f) {
       for (int c = 0; c < 3; ++c) {
         const auto v = static_cast<size_t>(m.triangles[3 * f + static_cast<size_t>(c)]);
-        if (first[v] < 0) first[v] = patch_ids[f];
-        else if (first[v] != patch_ids[f]) seam[v] = 1;
+        if (first[v] < 0)
+          first[v] = patch_ids[f];
+        else if (first[v] != patch_ids[f])
+          seam[v] = 1;
       }
     }
     std::vector<uint8_t> inside(scored.size());
@@ -245,22 +274,20 @@ void check_message(const char* message, size_t capacity) {
   require(std::memchr(message, '\0', capacity) != nullptr, "message is not NUL-terminated");
 }
 
-void check_result(const dev_result* result, const Mesh& m, const std::vector<uint8_t>& pins,
-                  bool paper_mode) {
+void check_result(const dev_result* result, const Mesh& m, const std::vector<uint8_t>& pins, bool paper_mode) {
   dev_stats s;
   require(dev_result_stats(result, &s) == DEV_STATUS_OK, "dev_result_stats failed");
   require(s.vertices == m.vertex_count() && s.faces == m.triangle_count(), "stats counts differ");
-  for (double v : {s.average_edge_length, s.mean_defect_before, s.mean_defect_after,
-                   s.max_defect_before, s.max_defect_after, s.change_percent, s.max_vertex_move})
+  for (double v : {s.average_edge_length, s.mean_defect_before, s.mean_defect_after, s.max_defect_before,
+                   s.max_defect_after, s.change_percent, s.max_vertex_move})
     require(std::isfinite(v), "a figure in dev_stats is not finite");
   std::vector<double> positions(m.positions.size());
-  require(dev_result_positions(result, positions.data(), static_cast<int64_t>(positions.size())) ==
-              DEV_STATUS_OK, "dev_result_positions failed");
+  require(dev_result_positions(result, positions.data(), static_cast<int64_t>(positions.size())) == DEV_STATUS_OK,
+          "dev_result_positions failed");
   for (double v : positions) require(std::isfinite(v), "a result position is not finite");
   for (size_t v = 0; v < pins.size(); ++v) {
     if (pins[v])
-      require(std::memcmp(&positions[3 * v], &m.positions[3 * v], 3 * sizeof(double)) == 0,
-              "a pinned vertex moved");
+      require(std::memcmp(&positions[3 * v], &m.positions[3 * v], 3 * sizeof(double)) == 0, "a pinned vertex moved");
   }
   std::vector<double> defect_before(static_cast<size_t>(m.vertex_count()));
   std::vector<double> defect_after(static_cast<size_t>(m.vertex_count()));
@@ -282,20 +309,19 @@ void check_result(const dev_result* result, const Mesh& m, const std::vector<uin
   for (int32_t p : patches) require(p >= 0 && p < s.patches, "patch id out of range");
   // Never worse than the input, by the engine's score.
   const bool piecewise = s.patches > 1 && !paper_mode;
-  require(score(defect_after, interior, patches, m, piecewise) <=
-              score(defect_before, interior, patches, m, piecewise),
+  require(score(defect_after, interior, patches, m, piecewise) <= score(defect_before, interior, patches, m, piecewise),
           "the result is worse than the input");
   // Too small a buffer is refused, not overrun.
   if (!positions.empty())
     require(dev_result_positions(result, positions.data(), static_cast<int64_t>(positions.size()) - 1) ==
-                DEV_STATUS_INVALID_ARGUMENT, "a short buffer was accepted");
+                DEV_STATUS_INVALID_ARGUMENT,
+            "a short buffer was accepted");
   const int64_t curves = dev_result_curve_count(result);
   require(curves == s.curves, "curve count differs from the stats");
   for (int64_t c = 0; c < curves; ++c) {
     int64_t count = -1;
     int32_t patch = -1, closed = -1;
-    require(dev_result_curve_info(result, c, &count, &patch, &closed) == DEV_STATUS_OK,
-            "dev_result_curve_info failed");
+    require(dev_result_curve_info(result, c, &count, &patch, &closed) == DEV_STATUS_OK, "dev_result_curve_info failed");
     require(count >= 0 && patch >= 0 && patch < s.patches, "bad curve info");
     std::vector<double> points(static_cast<size_t>(3 * count) + 1);
     require(dev_result_curve_points(result, c, points.data(), 3 * count) == DEV_STATUS_OK,
@@ -337,18 +363,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
 
   std::vector<char> message(capacity + 1, 'x');
   message[capacity] = '#';  // canary just past the buffer the engine gets
-  const int32_t checked = dev_validate(positions, n_vertices, triangles, n_triangles,
-                                       message.data(), capacity);
+  const int32_t checked = dev_validate(positions, n_vertices, triangles, n_triangles, message.data(), capacity);
   require(known_status(checked), "dev_validate returned an unknown status");
   check_message(message.data(), capacity);
   require(message[capacity] == '#', "dev_validate wrote past the message buffer");
 
   dev_result* result = reinterpret_cast<dev_result*>(&cancel);  // must be overwritten
   std::fill(message.begin(), message.end() - 1, 'x');
-  const int32_t status =
-      dev_run(positions, n_vertices, triangles, n_triangles, pins.empty() ? nullptr : pins.data(),
-              default_params ? nullptr : &params, with_progress ? progress : nullptr, &cancel,
-              &result, message.data(), capacity);
+  const int32_t status = dev_run(positions, n_vertices, triangles, n_triangles, pins.empty() ? nullptr : pins.data(),
+                                 default_params ? nullptr : &params, with_progress ? progress : nullptr, &cancel,
+                                 &result, message.data(), capacity);
   require(known_status(status), "dev_run returned an unknown status");
   check_message(message.data(), capacity);
   require(message[capacity] == '#', "dev_run wrote past the message buffer");
@@ -357,17 +381,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
                  "v=%lld t=%lld validate=%d run=%d: %s\n  params%s: omega %g tolerance %g iterations %d "
                  "mode %d solver %d pin_boundary %d mls %d stop %g threshold %g segmentation %d "
                  "patches %d segment_error %g seams %d grid %d smoothing %d\n",
-                 static_cast<long long>(n_vertices), static_cast<long long>(n_triangles), checked,
-                 status, message.data(), default_params ? " (unused: defaults)" : "", params.omega,
-                 params.tolerance, params.max_iterations, params.mode, params.solver,
-                 params.pin_boundary, params.use_mls_weights, params.stop_relative_change,
-                 params.developable_threshold, params.segmentation, params.target_patches,
+                 static_cast<long long>(n_vertices), static_cast<long long>(n_triangles), checked, status,
+                 message.data(), default_params ? " (unused: defaults)" : "", params.omega, params.tolerance,
+                 params.max_iterations, params.mode, params.solver, params.pin_boundary, params.use_mls_weights,
+                 params.stop_relative_change, params.developable_threshold, params.segmentation, params.target_patches,
                  params.segment_max_error, params.seams, params.grid_resolution, params.target_smoothing);
   require(status != DEV_STATUS_INTERNAL_ERROR, "dev_run reported an internal error");
   // A mesh the input check refuses is refused by dev_run with the same code
   // (unless a parameter or the pin mask was refused first).
-  if (checked != DEV_STATUS_OK && status != DEV_STATUS_INVALID_ARGUMENT &&
-      status != DEV_STATUS_CANCELLED)
+  if (checked != DEV_STATUS_OK && status != DEV_STATUS_INVALID_ARGUMENT && status != DEV_STATUS_CANCELLED)
     require(status == checked, "dev_run and dev_validate disagree");
   if (status == DEV_STATUS_OK) {
     require(result != nullptr, "OK without a result");

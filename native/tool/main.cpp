@@ -1,6 +1,6 @@
 // developable: the command-line tool. Reads a mesh, runs the engine through
 // its C ABI (the same path the Blender add-on takes), writes the result.
-#include "developable.h"
+#include "api/developable.h"
 #include "mesh_io.h"
 
 #include <cmath>
@@ -93,15 +93,13 @@ const char* const usage_text =
 double parse_number(const std::string& option, const char* text) {
   char* end = nullptr;
   const double value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value))
-    die(1, option + " needs a number, got '" + text + "'");
+  if (end == text || *end != '\0' || !std::isfinite(value)) die(1, option + " needs a number, got '" + text + "'");
   return value;
 }
 
 int parse_integer(const std::string& option, const char* text) {
   const double value = parse_number(option, text);
-  if (value != std::floor(value) || std::abs(value) > 1e9)
-    die(1, option + " needs a whole number, got '" + text + "'");
+  if (value != std::floor(value) || std::abs(value) > 1e9) die(1, option + " needs a whole number, got '" + text + "'");
   return static_cast<int>(value);
 }
 
@@ -133,22 +131,33 @@ int print_progress(double fraction, const char* stage, void*) {
 
 const char* stop_reason_name(int32_t reason) {
   switch (reason) {
-    case DEV_STOP_ALREADY_DEVELOPABLE: return "already_developable";
-    case DEV_STOP_CONVERGED: return "converged";
-    case DEV_STOP_STALLED: return "stalled";
-    default: return "iteration_limit";
+    case DEV_STOP_ALREADY_DEVELOPABLE:
+      return "already_developable";
+    case DEV_STOP_CONVERGED:
+      return "converged";
+    case DEV_STOP_STALLED:
+      return "stalled";
+    default:
+      return "iteration_limit";
   }
 }
 
 const char* unchanged_reason_name(int32_t reason) {
   switch (reason) {
-    case DEV_UNCHANGED_ALREADY_DEVELOPABLE: return "already_developable";
-    case DEV_UNCHANGED_DEVELOPABLE_PIECEWISE: return "developable_piecewise";
-    case DEV_UNCHANGED_ALREADY_FLAT: return "already_flat";
-    case DEV_UNCHANGED_NO_VISIBLE_GAIN: return "no_visible_gain";
-    case DEV_UNCHANGED_NO_BETTER_ITERATE: return "no_better_iterate";
-    case DEV_UNCHANGED_REJECTED: return "rejected";
-    default: return "none";
+    case DEV_UNCHANGED_ALREADY_DEVELOPABLE:
+      return "already_developable";
+    case DEV_UNCHANGED_DEVELOPABLE_PIECEWISE:
+      return "developable_piecewise";
+    case DEV_UNCHANGED_ALREADY_FLAT:
+      return "already_flat";
+    case DEV_UNCHANGED_NO_VISIBLE_GAIN:
+      return "no_visible_gain";
+    case DEV_UNCHANGED_NO_BETTER_ITERATE:
+      return "no_better_iterate";
+    case DEV_UNCHANGED_REJECTED:
+      return "rejected";
+    default:
+      return "none";
   }
 }
 
@@ -164,9 +173,12 @@ std::string json_string(const char* text) {
   std::ostringstream s;
   for (const char* c = text; *c != '\0'; ++c) {
     const auto u = static_cast<unsigned char>(*c);
-    if (*c == '"' || *c == '\\') s << '\\' << *c;
-    else if (u < 0x20) s << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(u) << std::dec;
-    else s << *c;
+    if (*c == '"' || *c == '\\')
+      s << '\\' << *c;
+    else if (u < 0x20)
+      s << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(u) << std::dec;
+    else
+      s << *c;
   }
   return s.str();
 }
@@ -183,12 +195,10 @@ std::string pattern_json(const dev_pattern* pattern, const dev_pattern_params& p
        << ", \"seam_tolerance\": " << json_number(params.seam_tolerance)
        << ", \"seam_allowance_mm\": " << json_number(params.seam_allowance_mm)
        << ", \"glue_tabs_mm\": " << json_number(params.glue_tabs_mm) << "},\n";
-  json << "    \"stats\": {\"pieces\": " << st.pieces << ", \"sheets\": " << st.sheets
-       << ", \"seams\": " << st.seams << ", \"cut_edges\": " << st.cut_edges
-       << ", \"splits\": " << st.splits << ", \"max_strain\": " << json_number(st.max_strain)
-       << ", \"mean_strain\": " << json_number(st.mean_strain)
-       << ", \"max_area_change\": " << json_number(st.max_area_change)
-       << ", \"scale\": " << json_number(st.scale)
+  json << "    \"stats\": {\"pieces\": " << st.pieces << ", \"sheets\": " << st.sheets << ", \"seams\": " << st.seams
+       << ", \"cut_edges\": " << st.cut_edges << ", \"splits\": " << st.splits
+       << ", \"max_strain\": " << json_number(st.max_strain) << ", \"mean_strain\": " << json_number(st.mean_strain)
+       << ", \"max_area_change\": " << json_number(st.max_area_change) << ", \"scale\": " << json_number(st.scale)
        << ", \"time_unfold_ms\": " << json_number(st.time_unfold_ms)
        << ", \"time_layout_ms\": " << json_number(st.time_layout_ms)
        << ", \"time_total_ms\": " << json_number(st.time_total_ms)
@@ -208,42 +218,40 @@ std::string pattern_json(const dev_pattern* pattern, const dev_pattern_params& p
          << ", \"max_strain\": " << json_number(p.max_strain) << ", \"mean_strain\": " << json_number(p.mean_strain)
          << ", \"area_3d\": " << json_number(p.area_3d) << ", \"area_flat\": " << json_number(p.area_flat)
          << ", \"area_change\": " << json_number(p.area_change)
-         << ", \"outline_length\": " << json_number(p.outline_length)
-         << ", \"width_mm\": " << json_number(p.width_mm) << ", \"height_mm\": " << json_number(p.height_mm) << "}";
+         << ", \"outline_length\": " << json_number(p.outline_length) << ", \"width_mm\": " << json_number(p.width_mm)
+         << ", \"height_mm\": " << json_number(p.height_mm) << "}";
   }
   json << "],\n    \"seams\": [";
   for (int64_t i = 0; i < st.seams; ++i) {
     dev_pattern_seam m;
     dev_pattern_seam_get(pattern, i, &m);
     json << (i ? "," : "") << "\n      {\"label\": \"" << m.label << "\", \"piece_a\": " << m.piece_a
-         << ", \"piece_b\": " << m.piece_b << ", \"cut\": " << (m.cut ? "true" : "false")
-         << ", \"edges\": " << m.edges << ", \"length_3d\": " << json_number(m.length_3d)
-         << ", \"length_a\": " << json_number(m.length_a) << ", \"length_b\": " << json_number(m.length_b) << "}";
+         << ", \"piece_b\": " << m.piece_b << ", \"cut\": " << (m.cut ? "true" : "false") << ", \"edges\": " << m.edges
+         << ", \"length_3d\": " << json_number(m.length_3d) << ", \"length_a\": " << json_number(m.length_a)
+         << ", \"length_b\": " << json_number(m.length_b) << "}";
   }
   json << "]}";
   return json.str();
 }
 
-void write_report(const std::string& path, const dev_result* result, const dev_stats& s,
-                  const dev_params& params, const std::string& pattern) {
+void write_report(const std::string& path, const dev_result* result, const dev_stats& s, const dev_params& params,
+                  const std::string& pattern) {
   std::ostringstream json;
   json << "{\n  \"engine_version\": \"" << dev_version_string() << "\",\n";
   json << "  \"parameters\": {\"omega\": " << json_number(params.omega)
-       << ", \"tolerance_ae\": " << json_number(params.tolerance)
-       << ", \"max_move\": " << json_number(params.max_move) << ", \"polish\": " << params.polish
-       << ", \"polish_smoothed_input\": " << params.polish_smoothed_input
+       << ", \"tolerance_ae\": " << json_number(params.tolerance) << ", \"max_move\": " << json_number(params.max_move)
+       << ", \"polish\": " << params.polish << ", \"polish_smoothed_input\": " << params.polish_smoothed_input
        << ", \"max_iterations\": " << params.max_iterations << ", \"mode\": \""
        << (params.mode == DEV_MODE_PAPER ? "paper" : "refit") << "\", \"solver\": \""
        << (params.solver == DEV_SOLVER_COUPLED ? "coupled" : "decoupled")
        << "\", \"pin_boundary\": " << (params.pin_boundary ? "true" : "false")
        << ", \"mls_weights\": " << (params.use_mls_weights ? "true" : "false")
-       << ", \"segmentation\": " << params.segmentation
-       << ", \"target_smoothing\": " << params.target_smoothing
+       << ", \"segmentation\": " << params.segmentation << ", \"target_smoothing\": " << params.target_smoothing
        << ", \"seams\": \"" << (params.seams == DEV_SEAMS_PINNED ? "pinned" : "free") << "\"},\n";
   json << "  \"stats\": {\"vertices\": " << s.vertices << ", \"faces\": " << s.faces
        << ", \"interior_vertices\": " << s.interior_vertices << ", \"patches\": " << s.patches
-       << ", \"curves\": " << s.curves << ", \"iterations\": " << s.iterations
-       << ", \"stop_reason\": \"" << stop_reason_name(s.stop_reason) << "\""
+       << ", \"curves\": " << s.curves << ", \"iterations\": " << s.iterations << ", \"stop_reason\": \""
+       << stop_reason_name(s.stop_reason) << "\""
        << ", \"average_edge_length\": " << json_number(s.average_edge_length)
        << ", \"mean_defect_before\": " << json_number(s.mean_defect_before)
        << ", \"mean_defect_after\": " << json_number(s.mean_defect_after)
@@ -257,13 +265,13 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
        << ", \"time_polish_ms\": " << json_number(s.time_polish_ms)
        << ", \"polish_iterations\": " << s.polish_iterations
        << ", \"polished_from_input\": " << (s.polished_from_input ? "true" : "false")
-       << ", \"input_smoothed\": " << (s.input_smoothed ? "true" : "false")
-       << ", \"result\": \"" << (s.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved") << "\""
+       << ", \"input_smoothed\": " << (s.input_smoothed ? "true" : "false") << ", \"result\": \""
+       << (s.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved") << "\""
        << ", \"unchanged_reason\": \"" << unchanged_reason_name(s.unchanged_reason) << "\""
        << ", \"faces_turned_over\": " << s.faces_turned_over
        << ", \"flat_share_before\": " << json_number(s.flat_share_before)
-       << ", \"flat_share_after\": " << json_number(s.flat_share_after)
-       << ", \"result_message\": \"" << json_string(s.result_message) << "\"},\n";
+       << ", \"flat_share_after\": " << json_number(s.flat_share_after) << ", \"result_message\": \""
+       << json_string(s.result_message) << "\"},\n";
   std::vector<int32_t> patches(static_cast<size_t>(s.faces));
   dev_result_patch_ids(result, patches.data(), s.faces);
   json << "  \"patch_ids\": [";
@@ -275,11 +283,11 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
     dev_result_curve_info(result, c, &count, &patch, &closed);
     std::vector<double> points(static_cast<size_t>(3 * count));
     dev_result_curve_points(result, c, points.data(), 3 * count);
-    json << (c ? "," : "") << "\n    {\"patch\": " << patch << ", \"closed\": "
-         << (closed ? "true" : "false") << ", \"points\": [";
+    json << (c ? "," : "") << "\n    {\"patch\": " << patch << ", \"closed\": " << (closed ? "true" : "false")
+         << ", \"points\": [";
     for (int64_t p = 0; p < count; ++p) {
-      json << (p ? "," : "") << "[" << json_number(points[3 * p]) << ","
-           << json_number(points[3 * p + 1]) << "," << json_number(points[3 * p + 2]) << "]";
+      json << (p ? "," : "") << "[" << json_number(points[3 * p]) << "," << json_number(points[3 * p + 1]) << ","
+           << json_number(points[3 * p + 2]) << "]";
     }
     json << "]}";
   }
@@ -365,9 +373,12 @@ int main(int argc, char** argv) {
       const std::string given = value();
       double w = 0, h = 0;
       char extra = 0;
-      if (given == "a4") w = 210, h = 297;
-      else if (given == "a3") w = 297, h = 420;
-      else if (given == "letter") w = 215.9, h = 279.4;
+      if (given == "a4")
+        w = 210, h = 297;
+      else if (given == "a3")
+        w = 297, h = 420;
+      else if (given == "letter")
+        w = 215.9, h = 279.4;
       else if (std::sscanf(given.c_str(), "%lfx%lf%c", &w, &h, &extra) != 2 || !(w > 0) || !(h > 0) ||
                !std::isfinite(w) || !std::isfinite(h))
         die(1, "--sheet needs WxH in mm (e.g. 210x297) or a4, a3, letter; got '" + given + "'");
@@ -401,8 +412,7 @@ int main(int argc, char** argv) {
   }
   if (files.size() != 2) die(1, "need INPUT and OUTPUT files (see --help)");
   if (dev_abi_version() != DEV_ABI_VERSION) die(1, "the engine library does not match this tool");
-  if (!developable_tool::can_write(files[1]))
-    die(1, "cannot write '" + files[1] + "': use .obj, .off, .ply or .stl");
+  if (!developable_tool::can_write(files[1])) die(1, "cannot write '" + files[1] + "': use .obj, .off, .ply or .stl");
 
   developable_tool::RawMesh mesh;
   std::string error;
@@ -413,9 +423,8 @@ int main(int argc, char** argv) {
   dev_result* result = nullptr;
   char message[1024];
   const int32_t status = dev_run(mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(),
-                                 mesh.triangle_count(), pinned.empty() ? nullptr : pinned.data(),
-                                 &params, quiet ? nullptr : print_progress, nullptr, &result,
-                                 message, sizeof message);
+                                 mesh.triangle_count(), pinned.empty() ? nullptr : pinned.data(), &params,
+                                 quiet ? nullptr : print_progress, nullptr, &result, message, sizeof message);
   if (!quiet) std::fprintf(stderr, "\n");
   if (status != DEV_STATUS_OK) die(2, std::string(files[0]) + ": " + message);
 
@@ -431,9 +440,9 @@ int main(int argc, char** argv) {
     dev_result_patch_ids(result, patches.data(), stats.faces);
     pattern_params.svg_path = pattern_file.c_str();
     dev_pattern* pattern = nullptr;
-    const int32_t unfolded = dev_unfold(positions.data(), mesh.vertex_count(), mesh.triangles.data(),
-                                        mesh.triangle_count(), patches.data(), &pattern_params, &pattern,
-                                        message, sizeof message);
+    const int32_t unfolded =
+        dev_unfold(positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(), patches.data(),
+                   &pattern_params, &pattern, message, sizeof message);
     if (unfolded != DEV_STATUS_OK) {
       dev_result_free(result);
       die(2, "pattern: " + std::string(message));
@@ -446,22 +455,23 @@ int main(int argc, char** argv) {
   dev_result_free(result);
 
   if (!quiet) {
-    std::fprintf(stderr,
-                 "#v %lld  #f %lld  AE %.4g  patches %lld\n"
-                 "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
-                 "iterations %d (%s), polish %d%s  largest move %.4g (%.3g AE)\n"
-                 "t_D %.2f ms  t_I %.2f ms  polish %.2f ms  t_T %.2f ms\n",
-                 static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces),
-                 stats.average_edge_length, static_cast<long long>(stats.patches),
-                 stats.mean_defect_before, stats.mean_defect_after, stats.change_percent,
-                 stats.max_defect_before, stats.max_defect_after, stats.iterations,
-                 stop_reason_name(stats.stop_reason), stats.polish_iterations,
-                 stats.polished_from_input ? (stats.input_smoothed ? " (of the smoothed input)" : " (of the input)") : "", stats.max_vertex_move,
-                 stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
-                 stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
-    const std::string result_kind = stats.result == DEV_RESULT_UNCHANGED
-                                        ? std::string("unchanged (") + unchanged_reason_name(stats.unchanged_reason) + ")"
-                                        : "improved";
+    std::fprintf(
+        stderr,
+        "#v %lld  #f %lld  AE %.4g  patches %lld\n"
+        "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
+        "iterations %d (%s), polish %d%s  largest move %.4g (%.3g AE)\n"
+        "t_D %.2f ms  t_I %.2f ms  polish %.2f ms  t_T %.2f ms\n",
+        static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces), stats.average_edge_length,
+        static_cast<long long>(stats.patches), stats.mean_defect_before, stats.mean_defect_after, stats.change_percent,
+        stats.max_defect_before, stats.max_defect_after, stats.iterations, stop_reason_name(stats.stop_reason),
+        stats.polish_iterations,
+        stats.polished_from_input ? (stats.input_smoothed ? " (of the smoothed input)" : " (of the input)") : "",
+        stats.max_vertex_move, stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
+        stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
+    const std::string result_kind =
+        stats.result == DEV_RESULT_UNCHANGED
+            ? std::string("unchanged (") + unchanged_reason_name(stats.unchanged_reason) + ")"
+            : "improved";
     std::fprintf(stderr, "flat %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
                  100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after,
                  static_cast<long long>(stats.faces_turned_over), result_kind.c_str());

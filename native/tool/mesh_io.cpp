@@ -173,8 +173,7 @@ bool can_write(const std::string& path) { return IO::IOManager().can_write(exten
 
 // OBJ is written here so that coordinates keep all 17 digits; OpenMesh's
 // writers go through single precision.
-bool write_obj(const std::string& path, const std::vector<double>& positions,
-               const std::vector<int32_t>& triangles) {
+bool write_obj(const std::string& path, const std::vector<double>& positions, const std::vector<int32_t>& triangles) {
   std::FILE* file = std::fopen(path.c_str(), "w");
   if (file == nullptr) return false;
   bool ok = std::fprintf(file, "# developable: %zu vertices, %zu triangles\n", positions.size() / 3,
@@ -186,8 +185,8 @@ bool write_obj(const std::string& path, const std::vector<double>& positions,
   return std::fclose(file) == 0 && ok;
 }
 
-bool write_mesh(const std::string& path, const std::vector<double>& positions,
-                const std::vector<int32_t>& triangles, std::string& error) {
+bool write_mesh(const std::string& path, const std::vector<double>& positions, const std::vector<int32_t>& triangles,
+                std::string& error) {
   if (extension(path) == "obj") {
     const std::string temporary = path + ".partial";
     if (!write_obj(temporary, positions, triangles) || std::rename(temporary.c_str(), path.c_str()) != 0) {
@@ -203,9 +202,9 @@ bool write_mesh(const std::string& path, const std::vector<double>& positions,
   for (size_t v = 0; v + 2 < positions.size(); v += 3)
     handles.push_back(mesh.add_vertex(PolyMesh::Point(positions[v], positions[v + 1], positions[v + 2])));
   for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
-    const PolyMesh::FaceHandle face = mesh.add_face(handles[static_cast<size_t>(triangles[t])],
-                                                    handles[static_cast<size_t>(triangles[t + 1])],
-                                                    handles[static_cast<size_t>(triangles[t + 2])]);
+    const PolyMesh::FaceHandle face =
+        mesh.add_face(handles[static_cast<size_t>(triangles[t])], handles[static_cast<size_t>(triangles[t + 1])],
+                      handles[static_cast<size_t>(triangles[t + 2])]);
     if (!face.is_valid()) {
       error = "cannot build the output mesh (triangle " + std::to_string(t / 3) + ")";
       return false;

@@ -25,8 +25,8 @@ bool read_raw_mesh(const std::string& path, RawMesh& mesh, std::string& error);
 
 // Writes a triangle mesh. Returns false and sets `error` on failure; writes to
 // a temporary file first and renames it, so no partial file is ever left.
-bool write_mesh(const std::string& path, const std::vector<double>& positions,
-                const std::vector<int32_t>& triangles, std::string& error);
+bool write_mesh(const std::string& path, const std::vector<double>& positions, const std::vector<int32_t>& triangles,
+                std::string& error);
 
 // True when the extension names a format OpenMesh can write.
 bool can_write(const std::string& path);

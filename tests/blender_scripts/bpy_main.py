@@ -17,8 +17,8 @@ import sys
 import traceback
 
 argv = sys.argv[1:]
-tail = argv[argv.index("--"):] if "--" in argv else []
-head = argv[:len(argv) - len(tail)]
+tail = argv[argv.index("--") :] if "--" in argv else []
+head = argv[: len(argv) - len(tail)]
 blend = script = expr = None
 i = 0
 while i < len(head):
@@ -31,8 +31,8 @@ while i < len(head):
     else:
         raise SystemExit("bpy_main.py: unknown argument %r" % head[i])
 
-import bpy  # noqa: E402
-import addon_utils  # noqa: E402
+import bpy
+import addon_utils
 
 if blend:
     bpy.ops.wm.open_mainfile(filepath=blend)

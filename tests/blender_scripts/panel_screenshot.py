@@ -19,42 +19,41 @@ import bpy
 import numpy as np
 from mathutils import Euler, Vector
 
-ARGS = sys.argv[sys.argv.index("--") + 1:]
+ARGS = sys.argv[sys.argv.index("--") + 1 :]
 OUT = os.path.abspath(ARGS[0])
 ADVANCED = "advanced" in ARGS[1:]
 names = [m.__name__ for m in addon_utils.modules() if m.__name__.endswith("developable_mesh")]
 addon_utils.enable(names[0] if names else "developable_mesh", default_set=True)
 
 if ADVANCED:
-    for name in ("VIEW3D_PT_developable_pins", "VIEW3D_PT_developable_parameters",
-                 "VIEW3D_PT_developable_result"):
+    for name in ("VIEW3D_PT_developable_pins", "VIEW3D_PT_developable_parameters", "VIEW3D_PT_developable_result"):
         cls = getattr(bpy.types, name)
         bpy.utils.unregister_class(cls)
         cls.bl_options = set()
         if name == "VIEW3D_PT_developable_result":
-            cls.bl_options = {'DEFAULT_CLOSED'}
+            cls.bl_options = {"DEFAULT_CLOSED"}
         bpy.utils.register_class(cls)
 
 
 def view3d():
     win = bpy.context.window_manager.windows[0]
-    area = max((a for a in win.screen.areas if a.type == 'VIEW_3D'), key=lambda a: a.width)
+    area = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width)
     return win, area
 
 
 def setup():
     win, area = view3d()
     space = area.spaces[0]
-    ob = next(o for o in bpy.data.objects if o.type == 'MESH' and o.developable.has_result)
+    ob = next(o for o in bpy.data.objects if o.type == "MESH" and o.developable.has_result)
     bpy.context.view_layer.objects.active = ob
     for o in bpy.context.scene.objects:
         o.select_set(o == ob)
     space.show_region_ui = True
-    space.shading.type = 'SOLID'
-    space.shading.color_type = 'VERTEX'
+    space.shading.type = "SOLID"
+    space.shading.color_type = "VERTEX"
     space.overlay.show_floor = True
     rv3d = space.region_3d
-    rv3d.view_perspective = 'PERSP'
+    rv3d.view_perspective = "PERSP"
     rv3d.view_location = Vector((2.6, 0.0, 0.4))
     rv3d.view_rotation = Euler((1.25, 0.0, 0.25)).to_quaternion()
     rv3d.view_distance = 8.0
@@ -64,19 +63,19 @@ def setup():
 def click_tab():
     """Clicks the "Developable" tab (the sidebar keeps its default width)."""
     win, area = view3d()
-    ui = next(r for r in area.regions if r.type == 'UI')
+    ui = next(r for r in area.regions if r.type == "UI")
     x = ui.x + ui.width - 10
     y = ui.y + ui.height - 176
-    win.event_simulate(type='MOUSEMOVE', value='NOTHING', x=x, y=y)
-    win.event_simulate(type='LEFTMOUSE', value='PRESS', x=x, y=y)
-    win.event_simulate(type='LEFTMOUSE', value='RELEASE', x=x, y=y)
-    win.event_simulate(type='MOUSEMOVE', value='NOTHING', x=area.x + 300, y=area.y + 300)
+    win.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+    win.event_simulate(type="LEFTMOUSE", value="PRESS", x=x, y=y)
+    win.event_simulate(type="LEFTMOUSE", value="RELEASE", x=x, y=y)
+    win.event_simulate(type="MOUSEMOVE", value="NOTHING", x=area.x + 300, y=area.y + 300)
     bpy.app.timers.register(shoot, first_interval=1.5)
 
 
 def shoot():
     win, area = view3d()
-    ui = next(r for r in area.regions if r.type == 'UI')
+    ui = next(r for r in area.regions if r.type == "UI")
     with bpy.context.temp_override(window=win, screen=win.screen, area=area):
         bpy.ops.screen.screenshot(filepath=OUT)
     top = area.y + area.height
@@ -96,7 +95,7 @@ def crop(path, x0, x1, y0, y1):
     out = bpy.data.images.new("crop", width=px.shape[1], height=px.shape[0], alpha=True)
     out.pixels.foreach_set(px.reshape(-1))
     out.filepath_raw = path
-    out.file_format = 'PNG'
+    out.file_format = "PNG"
     out.save()
 
 

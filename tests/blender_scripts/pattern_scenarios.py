@@ -17,10 +17,10 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2]))  # the repository: devkit
-from devkit import blender as dk_blender, meshes as dk_meshes  # noqa: E402
+from devkit import blender as dk_blender, meshes as dk_meshes
 
 MODULE = "developable_mesh"
-ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+ARGS = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
 PKG = addon_utils.enable(MODULE, default_set=True)
 pattern_module = importlib.import_module(PKG.__name__ + ".pattern")
 
@@ -73,8 +73,10 @@ def uv_islands(mesh, name):
     for (a, b), polys in edge_polys.items():
         if len(polys) == 2:
             p, q = polys
-            if (np.abs(corner[(p, a)] - corner[(q, a)]).max() < 1e-6 and
-                    np.abs(corner[(p, b)] - corner[(q, b)]).max() < 1e-6):
+            if (
+                np.abs(corner[(p, a)] - corner[(q, a)]).max() < 1e-6
+                and np.abs(corner[(p, b)] - corner[(q, b)]).max() < 1e-6
+            ):
                 parent[find(p)] = find(q)
     return len({find(p) for p in range(len(mesh.polygons))})
 
@@ -93,20 +95,23 @@ def state(ob):
         "active_uv": me.uv_layers.active.name if me.uv_layers.active else "",
         "islands": uv_islands(me, "Developable Pattern"),
         "seams": int(seams.sum()),
-        "strain": None if strain is None else [strain.domain, strain.data_type, len(strain.data),
-                                               float(values.min()), float(values.max())],
+        "strain": None
+        if strain is None
+        else [strain.domain, strain.data_type, len(strain.data), float(values.min()), float(values.max())],
         "keys": [k.name for k in me.shape_keys.key_blocks] if me.shape_keys else [],
-        "record": {"has_result": ob.developable_pattern.has_result,
-                   "pieces": ob.developable_pattern.pieces,
-                   "sheets": ob.developable_pattern.sheets,
-                   "worst_strain": ob.developable_pattern.worst_strain,
-                   "source": ob.developable_pattern.source},
+        "record": {
+            "has_result": ob.developable_pattern.has_result,
+            "pieces": ob.developable_pattern.pieces,
+            "sheets": ob.developable_pattern.sheets,
+            "worst_strain": ob.developable_pattern.worst_strain,
+            "source": ob.developable_pattern.source,
+        },
     }
 
 
 def unfold(path, undo=False):
     try:
-        return sorted(bpy.ops.mesh.unfold_pattern('EXEC_DEFAULT', undo, filepath=path)), ""
+        return sorted(bpy.ops.mesh.unfold_pattern("EXEC_DEFAULT", undo, filepath=path)), ""
     except RuntimeError as exc:
         return ["CANCELLED"], str(exc)
 
@@ -119,7 +124,7 @@ def s_headless():
     bpy.context.scene.developable_pattern.auto_scale = True
     res_base, err_base = unfold(str(out / "base.svg"))
     on_base = state(ob)
-    res_run = sorted(bpy.ops.mesh.make_developable('EXEC_DEFAULT'))
+    res_run = sorted(bpy.ops.mesh.make_developable("EXEC_DEFAULT"))
     res_key, err_key = unfold(str(out / "key.svg"))
     on_key = state(ob)
     too_big = bpy.context.scene.developable_pattern
@@ -128,16 +133,22 @@ def s_headless():
     too_big.sheet = "CUSTOM"
     too_big.sheet_width = too_big.sheet_height = 50.0
     res_big, err_big = unfold(str(out / "big.svg"))
-    emit({"base": [res_base, err_base, on_base], "run": res_run, "key": [res_key, err_key, on_key],
-          "too_big": [res_big, err_big, state(ob)],
-          "files": sorted(p.name for p in out.iterdir()),
-          "base_unchanged": bool(np.array_equal(coords(ob.data), base))})
+    emit(
+        {
+            "base": [res_base, err_base, on_base],
+            "run": res_run,
+            "key": [res_key, err_key, on_key],
+            "too_big": [res_big, err_big, state(ob)],
+            "files": sorted(p.name for p in out.iterdir()),
+            "base_unchanged": bool(np.array_equal(coords(ob.data), base)),
+        }
+    )
 
 
 def _window_override():
     win = bpy.context.window_manager.windows[0]
-    area = next(a for a in win.screen.areas if a.type == 'VIEW_3D')
-    region = next(r for r in area.regions if r.type == 'WINDOW')
+    area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
+    region = next(r for r in area.regions if r.type == "WINDOW")
     return dict(window=win, screen=win.screen, area=area, region=region)
 
 
@@ -169,12 +180,19 @@ def s_undo():
                 undo_base = bool(np.array_equal(coords(ob.data), base))
                 bpy.ops.ed.redo()
                 after_redo = state(bpy.data.objects["cone_band"])
-            payload = {"result": res, "error": err, "before": before, "after": after,
-                       "after_undo": after_undo, "after_redo": after_redo,
-                       "undo_base_unchanged": undo_base, "files": sorted(p.name for p in out.iterdir())}
+            payload = {
+                "result": res,
+                "error": err,
+                "before": before,
+                "after": after,
+                "after_undo": after_undo,
+                "after_redo": after_redo,
+                "undo_base_unchanged": undo_base,
+                "files": sorted(p.name for p in out.iterdir()),
+            }
             if shot:  # the pattern of the developable result, for docs/pattern.md
                 with bpy.context.temp_override(**_window_override()):
-                    bpy.ops.mesh.make_developable('EXEC_DEFAULT')
+                    bpy.ops.mesh.make_developable("EXEC_DEFAULT")
                     unfold(str(out / "shot.svg"))
                 screenshot(bpy.data.objects["cone_band"], shot, lambda: _finish(payload))
             else:
@@ -190,17 +208,17 @@ def screenshot(ob, path, then):
     """The 3D view turned into a UV editor, all faces selected in Edit mode."""
     win = bpy.context.window_manager.windows[0]
     area = max(win.screen.areas, key=lambda a: a.width * a.height)
-    area.type = 'IMAGE_EDITOR'
-    area.ui_type = 'UV'
+    area.type = "IMAGE_EDITOR"
+    area.ui_type = "UV"
     with bpy.context.temp_override(window=win, area=area, active_object=ob, object=ob):
-        bpy.ops.object.mode_set(mode='EDIT')
-        bpy.ops.mesh.select_all(action='SELECT')
+        bpy.ops.object.mode_set(mode="EDIT")
+        bpy.ops.mesh.select_all(action="SELECT")
     space = area.spaces.active
     space.uv_editor.show_stretch = True
-    space.uv_editor.display_stretch_type = 'AREA'
+    space.uv_editor.display_stretch_type = "AREA"
 
     def shoot():
-        region = next(r for r in area.regions if r.type == 'WINDOW')
+        region = next(r for r in area.regions if r.type == "WINDOW")
         with bpy.context.temp_override(window=win, area=area, region=region):
             bpy.ops.image.view_all(fit_view=True)
         with bpy.context.temp_override(window=win, area=area):
@@ -244,8 +262,15 @@ def s_true_size():
     key.data.foreach_set("co", lifted.astype(np.float32).ravel())
     key.value = 0.0  # the pattern is of the key at full strength, whatever its slider
     keyed, key_source = pattern_module.source_positions(ob)
-    emit({"area": area(shown), "source": source, "key_area": area(keyed), "key_source": key_source,
-          "key_z": [float(keyed[:, 2].min()), float(keyed[:, 2].max())]})
+    emit(
+        {
+            "area": area(shown),
+            "source": source,
+            "key_area": area(keyed),
+            "key_source": key_source,
+            "key_z": [float(keyed[:, 2].min()), float(keyed[:, 2].max())],
+        }
+    )
 
 
 SCENARIOS = {name[2:]: fn for name, fn in globals().items() if name.startswith("s_")}

@@ -22,9 +22,9 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2]))  # the repository: devkit
-from devkit import meshes  # noqa: E402
+from devkit import meshes
 
-ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+ARGS = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
 
 
 def emit(d):
@@ -33,8 +33,9 @@ def emit(d):
 
 
 def enable():
-    names = [m.__name__ for m in addon_utils.modules()
-             if m.__name__.split(".")[-1] == "developable_mesh"] or ["developable_mesh"]
+    names = [m.__name__ for m in addon_utils.modules() if m.__name__.split(".")[-1] == "developable_mesh"] or [
+        "developable_mesh"
+    ]
     mod = addon_utils.enable(names[0], default_set=True)
     assert mod is not None, names
     return mod
@@ -52,9 +53,10 @@ properties, writeback, gauss_image = sub("properties"), sub("writeback"), sub("g
 
 # -- meshes -------------------------------------------------------------------------
 
+
 def clear():
-    if bpy.context.object is not None and bpy.context.object.mode != 'OBJECT':
-        bpy.ops.object.mode_set(mode='OBJECT')
+    if bpy.context.object is not None and bpy.context.object.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
     for o in list(bpy.data.objects):
         bpy.data.objects.remove(o, do_unlink=True)
     for c in list(bpy.data.collections):
@@ -137,13 +139,30 @@ def run(*args, **kw):
 
 def record(ob):
     rec = ob.developable
-    return {k: getattr(rec, k) for k in (
-        "has_result", "e_before", "e_after", "flat_before", "flat_after", "faces_turned",
-        "move_percent", "max_move", "size", "iterations", "verdict", "message", "world_space",
-        "patches", "engine_result")}
+    return {
+        k: getattr(rec, k)
+        for k in (
+            "has_result",
+            "e_before",
+            "e_after",
+            "flat_before",
+            "flat_after",
+            "faces_turned",
+            "move_percent",
+            "max_move",
+            "size",
+            "iterations",
+            "verdict",
+            "message",
+            "world_space",
+            "patches",
+            "engine_result",
+        )
+    }
 
 
 # -- scenarios ----------------------------------------------------------------------
+
 
 def same(a, b):
     if isinstance(b, float):
@@ -159,19 +178,24 @@ def s_presets():
             continue
         settings.preset = key
         want = dict(properties.GENERAL, **values)
-        out[key] = {"preset": settings.preset,
-                    "mismatch": {n: [getattr(settings, n), v] for n, v in want.items()
-                                 if not same(getattr(settings, n), v)}}
-    settings.preset = 'SHEET'
+        out[key] = {
+            "preset": settings.preset,
+            "mismatch": {n: [getattr(settings, n), v] for n, v in want.items() if not same(getattr(settings, n), v)},
+        }
+    settings.preset = "SHEET"
     settings.omega = 7.0  # by hand: no longer the preset
     out["after_edit"] = settings.preset
     # a script naming a job gets the job's values for what it does not set itself
     clear()
     ob = make_object("sheet", *noisy_sheet())
-    settings.preset = 'GENERAL'
-    res, err = run(preset='OBJECT', max_iterations=40)
-    out["script_preset"] = {"result": res, "error": err, "patches": ob.developable.patches,
-                            "scene_preset_kept": settings.preset}
+    settings.preset = "GENERAL"
+    res, err = run(preset="OBJECT", max_iterations=40)
+    out["script_preset"] = {
+        "result": res,
+        "error": err,
+        "patches": ob.developable.patches,
+        "scene_preset_kept": settings.preset,
+    }
     emit(out)
 
 
@@ -183,8 +207,7 @@ def s_worse():
     ob = make_object("torus", *meshes.ring_torus_quads(48, 16, 0.35, stagger=1.0))
     res, err = run()
     kb = ob.data.shape_keys.key_blocks.get("Developable") if ob.data.shape_keys else None
-    emit({"result": res, "error": err, "record": record(ob),
-          "key_value": kb.value if kb else None})
+    emit({"result": res, "error": err, "record": record(ob), "key_value": kb.value if kb else None})
 
 
 def s_better():
@@ -200,16 +223,17 @@ def s_developable():
     out = {}
     x, y = np.meshgrid(np.linspace(0, 2, 7), np.linspace(0, 1.5, 6), indexing="ij")
     k = np.arange(x.size).reshape(x.shape)
-    plane = (np.c_[x.ravel(), y.ravel(), np.zeros(x.size)],
-             np.stack([k[:-1, :-1], k[1:, :-1], k[1:, 1:], k[:-1, 1:]], -1).reshape(-1, 4))
+    plane = (
+        np.c_[x.ravel(), y.ravel(), np.zeros(x.size)],
+        np.stack([k[:-1, :-1], k[1:, :-1], k[1:, 1:], k[:-1, 1:]], -1).reshape(-1, 4),
+    )
     shapes = {"plane": plane, "box": meshes.open_box(np.random.default_rng(1))}
     for name, (verts, faces) in shapes.items():
         clear()
         ob = make_object(name, verts, faces)
         res, err = run()
         kb = ob.data.shape_keys.key_blocks.get("Developable") if ob.data.shape_keys else None
-        out[name] = {"result": res, "error": err, "record": record(ob),
-                     "key_value": kb.value if kb else None}
+        out[name] = {"result": res, "error": err, "record": record(ob), "key_value": kb.value if kb else None}
     emit(out)
 
 
@@ -220,18 +244,27 @@ def s_menu_uses_panel():
     settings = bpy.context.scene.developable
     settings.max_iterations = 3
     settings.move_limit = 0.5
-    settings.segmentation = 'OFF'
-    res, err = run('INVOKE_DEFAULT')
+    settings.segmentation = "OFF"
+    res, err = run("INVOKE_DEFAULT")
     rec = ob.developable
     menu_ops = []
 
     class Probe:  # what the menu entry draws: the operator, no values set
         def operator(self, idname, **kw):
             menu_ops.append([idname, sorted(kw)])
+
     sub("operators").menu_func(type("M", (), {"layout": Probe()})(), bpy.context)
-    emit({"result": res, "error": err, "iterations": rec.iterations,
-          "move_percent": rec.move_percent, "patches": rec.patches, "menu": menu_ops,
-          "scene_after": [settings.max_iterations, settings.move_limit, settings.segmentation]})
+    emit(
+        {
+            "result": res,
+            "error": err,
+            "iterations": rec.iterations,
+            "move_percent": rec.move_percent,
+            "patches": rec.patches,
+            "menu": menu_ops,
+            "scene_after": [settings.max_iterations, settings.move_limit, settings.segmentation],
+        }
+    )
 
 
 def s_shape_key():
@@ -255,10 +288,19 @@ def s_shape_key():
     at_zero = mean_defect(shown(ob), tris)
     kb.value = 1.0
     at_one = mean_defect(shown(ob), tris)
-    emit({"result": res, "error": err, "record": record(ob), "key_value": value,
-          "shown_before": seen_before, "basis_defect": basis_defect,
-          "shown_at_zero": at_zero, "shown_at_one": at_one,
-          "keys": [k.name for k in ob.data.shape_keys.key_blocks]})
+    emit(
+        {
+            "result": res,
+            "error": err,
+            "record": record(ob),
+            "key_value": value,
+            "shown_before": seen_before,
+            "basis_defect": basis_defect,
+            "shown_at_zero": at_zero,
+            "shown_at_one": at_one,
+            "keys": [k.name for k in ob.data.shape_keys.key_blocks],
+        }
+    )
 
 
 def s_scaled():
@@ -271,8 +313,16 @@ def s_scaled():
     local = mean_defect(coords(ob.data), tris)
     res, err = run()
     ob.data.shape_keys.key_blocks["Developable"].value = 1.0
-    emit({"result": res, "error": err, "record": record(ob), "world_defect": world,
-          "local_defect": local, "world_after": mean_defect(shown(ob), tris)})
+    emit(
+        {
+            "result": res,
+            "error": err,
+            "record": record(ob),
+            "world_defect": world,
+            "local_defect": local,
+            "world_after": mean_defect(shown(ob), tris),
+        }
+    )
 
 
 def s_non_manifold():
@@ -284,16 +334,25 @@ def s_non_manifold():
     res, err = run()
     mode = ob.mode
     active = bpy.context.view_layer.objects.active.name
-    bpy.ops.object.mode_set(mode='OBJECT')
+    bpy.ops.object.mode_set(mode="OBJECT")
     me = ob.data
     ev = np.empty(len(me.edges) * 2, dtype=np.int32)
     me.edges.foreach_get("vertices", ev)
     esel = np.zeros(len(me.edges), dtype=bool)
     me.edges.foreach_get("select", esel)
     selected = sorted(sorted(map(int, e)) for e in ev.reshape(-1, 2)[esel])
-    emit({"result": res, "error": err, "mode": mode, "active": active,
-          "selected_edges": selected, "bad_edge": sorted([a, b]),
-          "keys": bool(me.shape_keys), "has_result": ob.developable.has_result})
+    emit(
+        {
+            "result": res,
+            "error": err,
+            "mode": mode,
+            "active": active,
+            "selected_edges": selected,
+            "bad_edge": sorted([a, b]),
+            "keys": bool(me.shape_keys),
+            "has_result": ob.developable.has_result,
+        }
+    )
 
 
 def s_shared_triangle():
@@ -305,8 +364,15 @@ def s_shared_triangle():
     ob.data.calc_loop_triangles()
     valid_changed = ob.data.validate(verbose=False)
     res, err = run()
-    emit({"result": res, "error": err, "validate_changed": bool(valid_changed),
-          "message": ob.developable.message, "has_result": ob.developable.has_result})
+    emit(
+        {
+            "result": res,
+            "error": err,
+            "validate_changed": bool(valid_changed),
+            "message": ob.developable.message,
+            "has_result": ob.developable.has_result,
+        }
+    )
 
 
 def s_several():
@@ -322,9 +388,14 @@ def s_several():
     shared.select_set(False)
     bpy.context.view_layer.objects.active = a
     res, err = run()
-    emit({"result": res, "error": err,
-          "has_result": {o.name: o.developable.has_result for o in (a, b, shared)},
-          "message_a": a.developable.message})
+    emit(
+        {
+            "result": res,
+            "error": err,
+            "has_result": {o.name: o.developable.has_result for o in (a, b, shared)},
+            "message_a": a.developable.message,
+        }
+    )
 
 
 def s_gauss():
@@ -337,19 +408,22 @@ def s_gauss():
     found_after_rename = gauss_image.collection_of(ob) is not None
     res2, err2 = run(gauss_image=True, max_iterations=5)
     coll = gauss_image.collection_of(ob)
-    clouds = [o for o in coll.objects if o.instance_type == 'VERTS']
+    clouds = [o for o in coll.objects if o.instance_type == "VERTS"]
     dots = [o for o in coll.objects if o.parent in clouds]
-    emit({"result": [res, res2], "error": err + err2, "first": first,
-          "found_after_rename": found_after_rename,
-          "gauss_collections": sorted(c.name for c in bpy.data.collections
-                                      if c.name.startswith(gauss_image.PREFIX)),
-          "collection": coll.name,
-          "cloud_sizes": sorted(len(o.data.vertices) for o in clouds),
-          "faces": len(ob.data.polygons) * 2,
-          "dot_colour_attributes": [bool(o.data.color_attributes) for o in dots],
-          "legend": sorted(o.data.body for o in coll.objects if o.type == 'FONT')})
-
-
+    emit(
+        {
+            "result": [res, res2],
+            "error": err + err2,
+            "first": first,
+            "found_after_rename": found_after_rename,
+            "gauss_collections": sorted(c.name for c in bpy.data.collections if c.name.startswith(gauss_image.PREFIX)),
+            "collection": coll.name,
+            "cloud_sizes": sorted(len(o.data.vertices) for o in clouds),
+            "faces": len(ob.data.polygons) * 2,
+            "dot_colour_attributes": [bool(o.data.color_attributes) for o in dots],
+            "legend": sorted(o.data.body for o in coll.objects if o.type == "FONT"),
+        }
+    )
 
 
 def s_redo_reaches_the_sidebar():
@@ -360,8 +434,8 @@ def s_redo_reaches_the_sidebar():
 
     def go():
         win = bpy.context.window_manager.windows[0]
-        area = next(a for a in win.screen.areas if a.type == 'VIEW_3D')
-        region = next(r for r in area.regions if r.type == 'WINDOW')
+        area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
+        region = next(r for r in area.regions if r.type == "WINDOW")
         out = {}
         try:
             with bpy.context.temp_override(window=win, screen=win.screen, area=area, region=region):
@@ -370,7 +444,7 @@ def s_redo_reaches_the_sidebar():
                 settings = bpy.context.scene.developable
                 settings.max_iterations = 7
                 bpy.ops.ed.undo_push(message="sheet")
-                out["first"] = sorted(bpy.ops.mesh.make_developable('EXEC_DEFAULT', True))
+                out["first"] = sorted(bpy.ops.mesh.make_developable("EXEC_DEFAULT", True))
                 out["first_iterations"] = ob.developable.iterations
                 last = bpy.context.window_manager.operators[-1]
                 out["last"] = last.bl_idname
@@ -379,11 +453,13 @@ def s_redo_reaches_the_sidebar():
                 ob = bpy.data.objects["sheet"]
                 out["iterations"] = ob.developable.iterations
                 out["sidebar"] = bpy.context.scene.developable.max_iterations
-        except Exception as exc:  # reported, not a hang
+        except Exception:  # reported, not a hang
             import traceback
+
             out["exception"] = traceback.format_exc()
         emit(out)
         os._exit(0)
+
     bpy.app.timers.register(go, first_interval=1.0)
 
 

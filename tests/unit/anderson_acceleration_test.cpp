@@ -1,7 +1,7 @@
 // anderson_acceleration.h: the first call only records the step, a linear
 // contraction reaches its fixed point in far fewer mixed steps than plain
 // ones, reset() forgets, bad use throws.
-#include "anderson_acceleration.h"
+#include "deformation/anderson_acceleration.h"
 
 #include <gtest/gtest.h>
 
@@ -28,7 +28,7 @@ struct LinearMap {
     Eigen::Map<Eigen::VectorXd>(y.data(), y.size()) = M * Eigen::Map<const Eigen::VectorXd>(x.data(), x.size()) + b;
     return y;
   }
-  double residual(const Positions& x) const { return ((*this)(x) - x).norm(); }
+  double residual(const Positions& x) const { return ((*this)(x)-x).norm(); }
 };
 
 int steps_to_converge(const LinearMap& g, AndersonAcceleration* acceleration) {

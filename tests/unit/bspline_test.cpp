@@ -1,6 +1,6 @@
 // bspline.h: partition of unity, clamped ends, periodic closure, and a fit
 // that reproduces a curve the spline space holds.
-#include "bspline.h"
+#include "ideal_curve/bspline.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // concurrent_jobs.h: every job runs once, the callback only on the calling
 // thread and in job order, cancels stop the others, a job's own failure
 // comes first; parallel_for covers its range once in fixed chunks.
-#include "concurrent_jobs.h"
+#include "core/concurrent_jobs.h"
 
 #include <gtest/gtest.h>
 
@@ -117,8 +117,7 @@ TEST(ConcurrentJobs, AJobsOwnFailureComesBeforeTheCancelsItCaused) {
   const Job failing = [](const Progress&) { throw std::runtime_error("out of luck"); };
   for (int threads : {1, 2, 3}) {
     try {
-      run_concurrently({reporting_job(50, "a", &runs), failing, reporting_job(50, "c", &runs)}, threads,
-                       Progress{});
+      run_concurrently({reporting_job(50, "a", &runs), failing, reporting_job(50, "c", &runs)}, threads, Progress{});
       FAIL() << "nothing thrown";
     } catch (const EngineError& e) {
       FAIL() << "a cancel came first: " << e.what();

@@ -1,11 +1,11 @@
 // cone_fit.h: exact cones are recovered exactly, planes get angle 0, and the
 // moments are additive.
-#include "cone_fit.h"
+#include "core/cone_fit.h"
 
 #include "test_meshes.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 

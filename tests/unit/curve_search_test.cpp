@@ -1,12 +1,12 @@
 // curve_search.h: CurveSearch::nearest is "exact whatever the hints":
 // compared with a brute-force search over every arc, on random curves,
 // random normals and random (also wrong-sized or garbage) hints.
-#include "curve_search.h"
+#include "ideal_curve/curve_search.h"
 
 #include "test_meshes.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 

@@ -1,9 +1,9 @@
 // defect_polish.h: the polish drives the constrained angle defects to zero
 // by small moves, keeps pins, the limit and the faces' orientation, and
 // returns its start when it cannot or need not move.
-#include "defect_polish.h"
+#include "deformation/defect_polish.h"
 
-#include "measures.h"
+#include "core/measures.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -134,7 +134,8 @@ TEST(DefectPolish, ALocalDefectIsPolishedOnItsNeighbourhood) {
   Triangles cut_triangles(static_cast<Eigen::Index>(faces.size()), 3);
   Normals cut_normals(cut_triangles.rows(), 3);
   for (Eigen::Index i = 0; i < cut_triangles.rows(); ++i) {
-    for (int c = 0; c < 3; ++c) cut_triangles(i, c) = local_of[static_cast<size_t>(m.triangles(faces[static_cast<size_t>(i)], c))];
+    for (int c = 0; c < 3; ++c)
+      cut_triangles(i, c) = local_of[static_cast<size_t>(m.triangles(faces[static_cast<size_t>(i)], c))];
     cut_normals.row(i) = normals.row(faces[static_cast<size_t>(i)]);
   }
   const PolishResult local =
@@ -208,7 +209,7 @@ TEST(DefectPolish, ALateGiveUpBoundGivesTheSameVerdict) {
   EXPECT_EQ(unknown.positions, full.positions);
   EXPECT_GT(unknown.largest_move, bound);
   EXPECT_GE(unknown.largest_move, moved * (1.0 - 1e-12));  // its last step at least (rounding aside)
-  EXPECT_EQ(full.largest_move, 0.0);  // no bound, nothing kept
+  EXPECT_EQ(full.largest_move, 0.0);                       // no bound, nothing kept
 }
 
 // On a submesh the vertices outside it count too: a reference offset from
@@ -282,13 +283,13 @@ TEST(DefectPolish, PullStepsProjectTheReferenceOntoDevelopableMeshes) {
   };
   PolishOptions plain;
   plain.active_defect = 0.0;
-  const PolishResult unpulled = polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior,
-                                               {}, plain, Progress{});
+  const PolishResult unpulled =
+      polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior, {}, plain, Progress{});
   EXPECT_EQ(unpulled.iterations, 0);
   PolishOptions pulled = plain;
   pulled.pull_steps = 5;
-  const PolishResult r = polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior, {},
-                                        pulled, Progress{});
+  const PolishResult r =
+      polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior, {}, pulled, Progress{});
   EXPECT_GE(r.iterations, 5);
   EXPECT_LT(largest_defect(r.positions, clean.triangles, interior), 1e-6);
   const double before = rms(clean.positions, noisy.positions), after = rms(r.positions, noisy.positions);
@@ -296,8 +297,8 @@ TEST(DefectPolish, PullStepsProjectTheReferenceOntoDevelopableMeshes) {
   EXPECT_TRUE(turned_over_faces(face_normals(r.positions, clean.triangles), normals).empty());
   // The limit holds in the projection's steps too.
   pulled.limit = 0.002;
-  const PolishResult limited = polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior,
-                                              {}, pulled, Progress{});
+  const PolishResult limited =
+      polish_defects(clean.positions, noisy.positions, normals, clean.triangles, interior, {}, pulled, Progress{});
   for (Eigen::Index v = 0; v < clean.positions.rows(); ++v)
     EXPECT_LE((limited.positions.row(v) - noisy.positions.row(v)).norm(),
               std::max(pulled.limit, (clean.positions.row(v) - noisy.positions.row(v)).norm()) * (1 + 1e-12));

@@ -1,9 +1,9 @@
 // Stage 7, deformation.h: solve_three_columns is "bit-identical to
 // solver.solve(b)"; the MLS weights; a step keeps pins bit for bit and
 // leaves a surface alone whose targets are its own normals.
-#include "deformation.h"
+#include "deformation/deformation.h"
 
-#include "measures.h"
+#include "core/measures.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -32,8 +32,8 @@ TEST(Deformation, SolveThreeColumnsIsBitIdenticalToEigensSolve) {
     test::add_noise(m.positions, 0.01, seed);
     std::vector<bool> pinned(m.positions.rows(), false);
     pinned[0] = seed % 2 == 1;
-    const NormalGuidedDeformation deformation(m.triangles, pinned, Eigen::VectorXd::Ones(m.triangles.rows()), 5.0,
-                                              0.3, Formulation::decoupled, face_normals(m.positions, m.triangles));
+    const NormalGuidedDeformation deformation(m.triangles, pinned, Eigen::VectorXd::Ones(m.triangles.rows()), 5.0, 0.3,
+                                              Formulation::decoupled, face_normals(m.positions, m.triangles));
     CholeskySolver solver(deformation.system_matrix());
     ASSERT_EQ(solver.info(), Eigen::Success);
     const Positions b = random_rows(deformation.system_matrix().rows(), seed);
@@ -75,8 +75,8 @@ TEST(Deformation, PinsKeepTheirBitsAndFreeVerticesMove) {
       targets(f, 2) = 0.0;
       targets.row(f).normalize();
     }
-    const NormalGuidedDeformation deformation(m.triangles, pinned, Eigen::VectorXd::Ones(m.triangles.rows()), 5.0,
-                                              0.3, formulation, targets);
+    const NormalGuidedDeformation deformation(m.triangles, pinned, Eigen::VectorXd::Ones(m.triangles.rows()), 5.0, 0.3,
+                                              formulation, targets);
     const Positions next = deformation.step(m.positions);
     double moved = 0.0;
     for (Eigen::Index v = 0; v < next.rows(); ++v) {
@@ -114,8 +114,8 @@ TEST(Deformation, Refusals) {
   }
   Eigen::VectorXd bad = ones;
   bad[0] = -1.0;
-  EXPECT_THROW(NormalGuidedDeformation(m.triangles, std::vector<bool>(16, false), bad, 5.0, 1.0,
-                                       Formulation::decoupled, normals),
+  EXPECT_THROW(NormalGuidedDeformation(m.triangles, std::vector<bool>(16, false), bad, 5.0, 1.0, Formulation::decoupled,
+                                       normals),
                EngineError);
   EXPECT_THROW(NormalGuidedDeformation(m.triangles, std::vector<bool>(16, false), ones, 0.0, 1.0,
                                        Formulation::decoupled, normals),
@@ -130,8 +130,8 @@ TEST(Deformation, ZeroNormalWeightsKeepTheShapeAndOnesChangeNothing) {
   targets.col(2).array() += 0.3;  // targets off the normals: a step moves the mesh
   targets.rowwise().normalize();
   NormalGuidedDeformation deformation(m.triangles, std::vector<bool>(m.positions.rows(), false),
-                                      Eigen::VectorXd::Ones(m.triangles.rows()), 5.0, 0.3,
-                                      Formulation::decoupled, targets);
+                                      Eigen::VectorXd::Ones(m.triangles.rows()), 5.0, 0.3, Formulation::decoupled,
+                                      targets);
   const Positions full = deformation.step(m.positions, normals);
   EXPECT_GT((full - m.positions).cwiseAbs().maxCoeff(), 1e-3);
   deformation.set_normal_weights(Eigen::VectorXd::Ones(m.triangles.rows()));

@@ -1,14 +1,14 @@
 // developable_pieces.h: a mitred pipe falls into its cylinders, also where a
 // mitre's ring has a flat vertex at the sides; meshes whose curvature is not
 // on separating cuts (flat, a bump, noise) have no such pieces.
-#include "developable_pieces.h"
+#include "segmentation/developable_pieces.h"
 
-#include "measures.h"
-#include "mesh_connectivity.h"
+#include "core/measures.h"
+#include "core/mesh_connectivity.h"
 #include "test_meshes.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 #include <set>
@@ -43,7 +43,8 @@ std::optional<std::vector<int>> pieces_of(const test::Mesh& m) {
 // Faces below the joint ring (their centroid's z under the mitre plane) in
 // one piece, those above in the other.
 void expect_two_cylinders(const test::Mesh& m, const std::vector<int>& ids, double turn) {
-  const Eigen::Vector3d mitre = (Eigen::Vector3d(0, 0, 1) + Eigen::Vector3d(std::sin(turn), 0, std::cos(turn))).normalized();
+  const Eigen::Vector3d mitre =
+      (Eigen::Vector3d(0, 0, 1) + Eigen::Vector3d(std::sin(turn), 0, std::cos(turn))).normalized();
   std::set<int> below, above;
   for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();

@@ -1,7 +1,7 @@
 // Stage 4, effect_field.h: the window, the sources, the automatic radius's
 // bounds, and a field that peaks along the points (a ridge on the circle of
 // a cone's Gauss image).
-#include "effect_field.h"
+#include "ideal_curve/effect_field.h"
 
 #include "gauss_image.h"
 

@@ -1,10 +1,10 @@
 // Stage 3, gauss_chart.h: the Lambert chart and its "exact inverse", the
 // chart's disc, and the choice of pole.
-#include "gauss_chart.h"
+#include "ideal_curve/gauss_chart.h"
 #include "test_meshes.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 

@@ -4,8 +4,8 @@
 // [0, sweep), with random weights.
 #pragma once
 
+#include "core/types.h"
 #include "test_meshes.h"
-#include "types.h"
 
 #include <Eigen/Geometry>
 

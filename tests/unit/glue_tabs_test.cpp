@@ -1,9 +1,9 @@
 // glue_tabs.h from the promises in its header: trapezoids and triangles on
 // straight runs, bisectors at corners, tabs halved or dropped where they
 // would cross the piece or each other, bad input.
-#include "glue_tabs.h"
+#include "pattern/glue_tabs.h"
 
-#include "types.h"
+#include "core/types.h"
 
 #include <gtest/gtest.h>
 
@@ -80,9 +80,9 @@ TEST(GlueTabs, TabsDoNotCrossEachOther) {
   const TabbedOutline t = add_glue_tabs(kU, {{3, 1}, {5, 1}}, 2.5);
   EXPECT_EQ(t.tabs, 2);
   EXPECT_EQ(t.tabbed, std::vector<bool>({true, true}));
-  EXPECT_TRUE(reaches(t, 6.5));    // the right wall's tab, 2.5 high
-  EXPECT_TRUE(reaches(t, 6.25));   // the left wall's, halved
-  EXPECT_FALSE(reaches(t, 7.5));   // not at full height
+  EXPECT_TRUE(reaches(t, 6.5));   // the right wall's tab, 2.5 high
+  EXPECT_TRUE(reaches(t, 6.25));  // the left wall's, halved
+  EXPECT_FALSE(reaches(t, 7.5));  // not at full height
   const TabbedOutline swapped = add_glue_tabs(kU, {{5, 1}, {3, 1}}, 2.5);
   EXPECT_TRUE(reaches(swapped, 7.5));
   EXPECT_TRUE(reaches(swapped, 7.75));

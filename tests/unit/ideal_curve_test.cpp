@@ -1,7 +1,7 @@
 // Stage 6, ideal_curve.h: the fitted curve of a cone's or a cylinder's Gauss
 // image lies on its circle (small circle / great circle), closed when the
 // circle is whole; a plane gets its normal as a single point.
-#include "ideal_curve.h"
+#include "ideal_curve/ideal_curve.h"
 
 #include "gauss_image.h"
 

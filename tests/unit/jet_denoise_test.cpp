@@ -1,9 +1,9 @@
 // jet_denoise.h: the smoothed start takes most of the noise off a smooth
 // surface, leaves a noise-free one (almost) where it is, keeps pins
 // bit-identical and does not round a crease.
-#include "jet_denoise.h"
+#include "deformation/jet_denoise.h"
 
-#include "mesh_connectivity.h"
+#include "core/mesh_connectivity.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -60,9 +60,8 @@ TEST(JetDenoise, KeepsPinsBitIdentical) {
 
 TEST(JetDenoise, DoesNotRoundACrease) {
   // A sheet folded by 90 degrees along y = 0.5: z = max(0, y - 0.5).
-  const test::Mesh m = test::grid(11, 11, false, [](double u, double v) {
-    return Eigen::Vector3d(u, std::min(v, 0.5), std::max(0.0, v - 0.5));
-  });
+  const test::Mesh m = test::grid(
+      11, 11, false, [](double u, double v) { return Eigen::Vector3d(u, std::min(v, 0.5), std::max(0.0, v - 0.5)); });
   const Positions s = denoised(m);
   for (Eigen::Index v = 0; v < s.rows(); ++v) {
     if (std::abs(m.positions(v, 1) - 0.5) < 1e-12) {

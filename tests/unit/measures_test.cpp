@@ -1,7 +1,7 @@
 // Stage 2, measures.h: normals, areas, AE, angle defects on meshes whose
 // values are known in closed form.
-#include "measures.h"
-#include "mesh_input.h"
+#include "core/measures.h"
+#include "core/mesh_input.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -22,7 +22,7 @@ TEST(Measures, PutBackFoldedCornersUnfoldsAPlane) {
   const Normals reference = face_normals(m.positions, m.triangles);
   const CreaseGuard off(m.triangles, reference, {}, 0.0);
   Positions dragged = m.positions;
-  const Eigen::Index v = 4 * 9 + 4;  // an interior vertex
+  const Eigen::Index v = 4 * 9 + 4;                     // an interior vertex
   dragged.row(v) += Eigen::RowVector3d(1.7, 1.3, 0.0);  // several cells across
   ASSERT_FALSE(turned_over_faces(face_normals(dragged, m.triangles), reference).empty());
   Positions none = dragged;
@@ -63,8 +63,7 @@ TEST(Measures, GaussBonnetOnClosedMeshes) {
     auto m = test::cube();
     if (seed > 0) test::add_noise(m.positions, 0.2, seed);
     const auto interior = interior_vertices(m.positions, m.triangles);
-    EXPECT_NEAR(angle_defects(m.positions, m.triangles, interior).sum(), 4 * M_PI, 1e-10)
-        << "seed " << seed;
+    EXPECT_NEAR(angle_defects(m.positions, m.triangles, interior).sum(), 4 * M_PI, 1e-10) << "seed " << seed;
   }
 }
 
@@ -90,8 +89,7 @@ TEST(Measures, NormalsAreasAndEdgeLengthOfThePlane) {
     EXPECT_NEAR(a[f], 0.125, 1e-15);
   }
   // 12 axis edges of 0.5 and 4 diagonals of 0.5 sqrt 2
-  EXPECT_NEAR(average_edge_length(m.positions, m.triangles), (12 * 0.5 + 4 * 0.5 * std::sqrt(2.0)) / 16,
-              1e-15);
+  EXPECT_NEAR(average_edge_length(m.positions, m.triangles), (12 * 0.5 + 4 * 0.5 * std::sqrt(2.0)) / 16, 1e-15);
 }
 
 TEST(Measures, ZeroAreaTriangleGetsTheZeroNormal) {
@@ -115,8 +113,8 @@ TEST(Measures, DefectStatsOverInteriorOnly) {
 TEST(Measures, TurnedOverFacesAreThoseMoreThan90DegreesOffOrCollapsed) {
   Normals reference(4, 3), normals(4, 3);
   reference << 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 0;
-  normals << 0, 0.6, 0.8, 0, 0, 0, 0, 0, 0, 0, 0, -1;  // 37 degrees; (below); collapsed; unchecked
-  normals.row(1) = Eigen::RowVector3d(0, 1, -0.01).normalized();   // just past 90 degrees
+  normals << 0, 0.6, 0.8, 0, 0, 0, 0, 0, 0, 0, 0, -1;             // 37 degrees; (below); collapsed; unchecked
+  normals.row(1) = Eigen::RowVector3d(0, 1, -0.01).normalized();  // just past 90 degrees
   const std::vector<Eigen::Index> turned = turned_over_faces(normals, reference);
   EXPECT_EQ(turned, (std::vector<Eigen::Index>{1, 2}));
 }
@@ -143,7 +141,8 @@ TEST(Measures, CreaseGuardReportsTheFacesOfEdgesThatSharpened) {
     bool touches = false;
     for (int c = 0; c < 3; ++c) {
       const Eigen::Index v = m.triangles(f, c);
-      touches = touches || (m.positions.row(v) - m.positions.row(tip)).norm() < 0.3;  // the star and its edge neighbours
+      touches =
+          touches || (m.positions.row(v) - m.positions.row(tip)).norm() < 0.3;  // the star and its edge neighbours
     }
     EXPECT_TRUE(touches) << f;
   }

@@ -1,5 +1,5 @@
 // memory_budget.h: the estimate's ordering and the refusals.
-#include "memory_budget.h"
+#include "pipeline/memory_budget.h"
 
 #include <gtest/gtest.h>
 
@@ -13,12 +13,16 @@ class Budget {
  public:
   explicit Budget(const char* mib) {
     if (const char* old = std::getenv(kName)) saved_ = old, had_ = true;
-    if (mib) setenv(kName, mib, 1);
-    else unsetenv(kName);
+    if (mib)
+      setenv(kName, mib, 1);
+    else
+      unsetenv(kName);
   }
   ~Budget() {
-    if (had_) setenv(kName, saved_.c_str(), 1);
-    else unsetenv(kName);
+    if (had_)
+      setenv(kName, saved_.c_str(), 1);
+    else
+      unsetenv(kName);
   }
 
  private:
@@ -51,8 +55,8 @@ TEST(MemoryBudget, EstimateGrowsWithTheMeshTheCoupledSolverAndThePolish) {
     EXPECT_GT(estimated_peak_bytes(faces / 2, faces, coupled), d);
     // The same coupled factor; the refit mode adds the Anderson acceleration's
     // history, a few hundred bytes per vertex.
-    const double refit_extra = estimated_peak_bytes(faces / 2, faces, coupled) -
-                               estimated_peak_bytes(faces / 2, faces, paper);
+    const double refit_extra =
+        estimated_peak_bytes(faces / 2, faces, coupled) - estimated_peak_bytes(faces / 2, faces, paper);
     EXPECT_GT(refit_extra, 0.0);
     EXPECT_LE(refit_extra, 400.0 * static_cast<double>(faces / 2));
     PipelineOptions polished;

@@ -1,9 +1,9 @@
 // mesh_connectivity.h: the faces around each vertex, ascending, and the face
 // across each edge, on a closed and an open mesh; validate_mesh returns the
 // same table.
-#include "mesh_connectivity.h"
+#include "core/mesh_connectivity.h"
 
-#include "mesh_input.h"
+#include "core/mesh_input.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>

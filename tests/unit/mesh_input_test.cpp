@@ -1,6 +1,6 @@
 // Stage 1, mesh_input.h: every refusal of validate_mesh with its status and a
 // message naming the element; boundary_vertices.
-#include "mesh_input.h"
+#include "core/mesh_input.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -86,7 +86,10 @@ TEST(MeshInput, NonManifoldEdgeVertexAndOrientation) {
   p << 0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -1, 0, 0.5, 0, 1;
   EXPECT_EQ(validation(p, rows({{0, 1, 2}, {1, 0, 3}, {0, 1, 4}})).first, Status::non_manifold);
   // Inconsistent orientation: edge (0, 2) used twice in the same direction.
-  const auto [status, message] = validation(square(), rows({{0, 1, 2}, {0, 2, 3}, }));
+  const auto [status, message] = validation(square(), rows({
+                                                          {0, 1, 2},
+                                                          {0, 2, 3},
+                                                      }));
   EXPECT_EQ(status, Status::ok);
   const auto flipped = validation(square(), rows({{0, 1, 2}, {3, 2, 0}}));
   EXPECT_EQ(flipped.first, Status::non_manifold);

@@ -1,9 +1,9 @@
 // pipeline.h: a developable input comes back bit for bit; pins never move;
 // every vertex stays within E_allow; refusals of bad options.
-#include "pipeline.h"
+#include "pipeline/pipeline.h"
 
-#include "measures.h"
-#include "mesh_input.h"
+#include "core/measures.h"
+#include "core/mesh_input.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -123,8 +123,10 @@ TEST(Pipeline, MemoryBudgetIsCheckedBeforeTheMesh) {
   auto bad = test::plane();
   bad.triangles(0, 0) = 10000;
   const auto [status, message] = refusal(bad);
-  if (old) setenv(name, saved.c_str(), 1);
-  else unsetenv(name);
+  if (old)
+    setenv(name, saved.c_str(), 1);
+  else
+    unsetenv(name);
   EXPECT_EQ(status, Status::out_of_memory);
   EXPECT_NE(message.find("memory budget"), std::string::npos) << message;
   EXPECT_EQ(refusal(bad).first, Status::index_out_of_range);

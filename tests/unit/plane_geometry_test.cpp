@@ -1,5 +1,5 @@
 // plane_geometry.h from the promises in its header.
-#include "plane_geometry.h"
+#include "pattern/plane_geometry.h"
 
 #include <gtest/gtest.h>
 
@@ -43,7 +43,8 @@ TEST(PlaneGeometry, AreaCrossingsAndInside) {
   EXPECT_FALSE(segments_cross({0, 0}, {1, 1}, {0, 2}, {2, 0}));  // would meet past an end
   EXPECT_TRUE(inside_polygon(square, {1, 1}));
   EXPECT_FALSE(inside_polygon(square, {3, 1}));
-  EXPECT_FALSE(inside_polygon({{0, 0}, {4, 0}, {4, 4}, {3, 4}, {3, 1}, {1, 1}, {1, 4}, {0, 4}}, {2, 3}));  // in the U's slot
+  EXPECT_FALSE(
+      inside_polygon({{0, 0}, {4, 0}, {4, 4}, {3, 4}, {3, 1}, {1, 1}, {1, 4}, {0, 4}}, {2, 3}));  // in the U's slot
 }
 
 TEST(ConvexHull, FewOrCollinearPoints) {

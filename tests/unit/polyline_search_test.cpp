@@ -1,6 +1,6 @@
 // polyline_search.h: the chart search is exact (against a scan of every
 // segment) whatever the warm start, and extends open ends.
-#include "polyline_search.h"
+#include "ideal_curve/polyline_search.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // seam_allowance.h from the promises in its header: the cut line of a piece
 // with a seam allowance, on convex and concave outlines, a slot that closes,
 // random star-shaped outlines, and bad input.
-#include "seam_allowance.h"
+#include "pattern/seam_allowance.h"
 
-#include "types.h"
+#include "core/types.h"
 
 #include <gtest/gtest.h>
 

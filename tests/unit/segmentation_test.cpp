@@ -1,6 +1,6 @@
 // segmentation.h: deterministic labels, 0 .. k-1 and edge-connected, one
 // patch for a developable sheet, a split at a crease.
-#include "segmentation.h"
+#include "segmentation/segmentation.h"
 
 #include "test_meshes.h"
 
@@ -64,8 +64,9 @@ TEST(Segmentation, FoldedSheetSplitsAtTheCrease) {
     expect_valid_labels(m, label);
     std::set<std::pair<bool, int>> side_label;
     for (int f = 0; f < m.triangles.rows(); ++f) {
-      const double x = (m.positions(m.triangles(f, 0), 0) + m.positions(m.triangles(f, 1), 0) +
-                        m.positions(m.triangles(f, 2), 0)) / 3;
+      const double x =
+          (m.positions(m.triangles(f, 0), 0) + m.positions(m.triangles(f, 1), 0) + m.positions(m.triangles(f, 2), 0)) /
+          3;
       side_label.insert({x > 0.0, label[f]});
     }
     // Two patches, one per side of the crease.

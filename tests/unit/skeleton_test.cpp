@@ -1,7 +1,7 @@
 // Stage 5, skeleton.h: on the field of a cone's (or a cylinder's) Gauss
 // image the skeleton is one curve along the circle, closed when the circle
 // is whole; a point-like image has none; ordering on known point sets.
-#include "skeleton.h"
+#include "ideal_curve/skeleton.h"
 
 #include "gauss_image.h"
 

@@ -1,12 +1,12 @@
 // target_smoothing.h: what smoothing keeps (unit targets, constant fields,
 // other patches' targets) and what it does (averages over the ring).
-#include "target_smoothing.h"
+#include "ideal_curve/target_smoothing.h"
 
-#include "measures.h"
+#include "core/measures.h"
 #include "test_meshes.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <cmath>
 
@@ -48,8 +48,8 @@ TEST(TargetSmoothing, OtherPatchesAreLeftOut) {
   std::vector<int> patch(m.triangles.rows());
   Normals t(m.triangles.rows(), 3);
   for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {
-    const double x = (m.positions(m.triangles(f, 0), 0) + m.positions(m.triangles(f, 1), 0) +
-                      m.positions(m.triangles(f, 2), 0)) / 3;
+    const double x =
+        (m.positions(m.triangles(f, 0), 0) + m.positions(m.triangles(f, 1), 0) + m.positions(m.triangles(f, 2), 0)) / 3;
     patch[f] = x < 0.5 ? 0 : 1;
     t.row(f) = patch[f] == 0 ? Eigen::RowVector3d(0, 0, 1) : Eigen::RowVector3d(1, 0, 0);
   }

@@ -2,7 +2,7 @@
 // octahedron), built in code so that each test states what it runs on.
 #pragma once
 
-#include "types.h"
+#include "core/types.h"
 
 #include <Eigen/Geometry>
 

@@ -1,9 +1,9 @@
 // Flat patterns: unfold.h, pattern_layout.h and pattern_svg.h from the
 // promises in their headers, on exact meshes.
-#include "pattern_layout.h"
-#include "pattern_svg.h"
+#include "pattern/unfold.h"
+#include "pattern/pattern_layout.h"
+#include "pattern/pattern_svg.h"
 #include "test_meshes.h"
-#include "unfold.h"
 
 #include <gtest/gtest.h>
 
@@ -44,8 +44,13 @@ TEST(Unfold, PatchesBecomePiecesAndTheirBorderIsOneSeam) {
   const auto m = test::plane(6, 7);
   std::vector<int> patches(m.triangles.rows());
   for (Eigen::Index f = 0; f < m.triangles.rows(); ++f)
-    patches[f] = (m.positions.row(m.triangles(f, 0)) + m.positions.row(m.triangles(f, 1)) +
-                  m.positions.row(m.triangles(f, 2))).x() / 3.0 < 0.5 ? 0 : 3;
+    patches[f] =
+        (m.positions.row(m.triangles(f, 0)) + m.positions.row(m.triangles(f, 1)) + m.positions.row(m.triangles(f, 2)))
+                        .x() /
+                    3.0 <
+                0.5
+            ? 0
+            : 3;
   const UnfoldResult r = unfold(m.positions, m.triangles, patches);
   ASSERT_EQ(r.pieces.size(), 2u);
   ASSERT_EQ(r.seams.size(), 1u);
@@ -75,8 +80,8 @@ TEST(PatternLayout, PiecesStayInsideTheMarginsAtTrueScale) {
   EXPECT_LE(hi.y(), o.sheet_height - o.margin - o.footer + 1e-9);
   // Distances on the sheet are model distances times scale times unit.
   const double mm = layout.options.scale * o.unit_mm;
-  EXPECT_NEAR((layout.corners.row(0) - layout.corners.row(1)).norm(),
-              (r.corners.row(0) - r.corners.row(1)).norm() * mm, 1e-9);
+  EXPECT_NEAR((layout.corners.row(0) - layout.corners.row(1)).norm(), (r.corners.row(0) - r.corners.row(1)).norm() * mm,
+              1e-9);
   ASSERT_EQ(layout.marks.size(), 2 * r.seams.size());
   EXPECT_EQ(layout.marks[0].label.text, layout.marks[1].label.text);
   o.scale = 1.0;  // a 3 m cone on A4 at 1:1

@@ -1,0 +1,57 @@
+// Independent jobs on the cores, with the caller's progress and cancel.
+//
+// Least motion's candidates (pipeline.cpp) are polishes that share nothing
+// but read-only inputs; run one after the other they took half of a
+// 10k-50k-face run. run_concurrently runs such jobs on up to `threads`
+// threads, the calling thread among them.
+//
+// Only the calling thread calls the caller's progress callback (the add-on's
+// is Python and Blender's), in job order: the reports of job 0, then of job
+// 1, and so on, whatever the thread count, so the fraction never goes back.
+// Jobs on other threads queue their reports, which the calling thread passes
+// on once its own are done, and hear only "stop?" back. When the callback cancels, every
+// job stops at its next report, the rest of the reports are dropped, all are
+// joined and EngineError(cancelled) is rethrown.
+//
+// Each job must give the same result whichever thread runs it (no shared
+// mutable state): the results then do not depend on the thread count.
+#pragma once
+
+#include "core/types.h"
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <vector>
+
+namespace developable {
+
+using Job = std::function<void(const Progress&)>;
+
+// Runs every job once and returns when all are done.
+//   jobs: independent tasks; job k reports through the Progress it is given
+//   (its reports reach the callback in progress.sub(k / n, (k + 1) / n)).
+//   Job 0 runs on the calling thread, jobs 1, 2, ... on the other threads in
+//   turn; a thread that cannot be started leaves its jobs to the calling one.
+//   threads: at most this many threads, the calling one included; 0: one
+//   per core.
+//   progress: the caller's callback, called from the calling thread only.
+// Throws, once every job has ended: the exception of the lowest-numbered job
+// that failed other than by a cancel, else EngineError(cancelled) when the
+// callback cancelled.
+void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress);
+
+// Runs body(begin, end) once for each chunk [k chunk, (k + 1) chunk) of
+// [0, count), the chunks taken in turn by up to `threads` threads (the
+// calling one included; 0: one per core, at most 8). The chunks are fixed
+// whatever the thread count, so a body that writes only its own items gives
+// the same result on any number of threads. Loops over a mesh's faces in
+// the iterations use it (the target search, a step's right-hand side); a
+// loop of one chunk runs on the calling thread alone, so small meshes start
+// no thread. No progress: a body is short.
+// Every chunk runs, even after one threw; then the exception of the lowest
+// chunk that threw is rethrown (the same whatever the thread count).
+void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,
+                  const std::function<void(Eigen::Index, Eigen::Index)>& body);
+
+}  // namespace developable

@@ -1,0 +1,243 @@
+#include "core/measures.h"
+
+#include "core/mesh_input.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace developable {
+namespace {
+
+Eigen::Vector3d corner(const Positions& positions, const Triangles& triangles, Eigen::Index f, int c) {
+  return positions.row(triangles(f, c)).transpose();
+}
+
+}  // namespace
+
+Normals face_normals(const Positions& positions, const Triangles& triangles) {
+  Normals normals(triangles.rows(), 3);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::Vector3d a = corner(positions, triangles, f, 0);
+    const Eigen::Vector3d n = (corner(positions, triangles, f, 1) - a).cross(corner(positions, triangles, f, 2) - a);
+    const double length = n.norm();
+    normals.row(f) = length > 0.0 ? Eigen::RowVector3d(n.transpose() / length) : Eigen::RowVector3d::Zero();
+  }
+  return normals;
+}
+
+Eigen::VectorXd face_areas(const Positions& positions, const Triangles& triangles) {
+  Eigen::VectorXd areas(triangles.rows());
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::Vector3d a = corner(positions, triangles, f, 0);
+    areas[f] = 0.5 * (corner(positions, triangles, f, 1) - a).cross(corner(positions, triangles, f, 2) - a).norm();
+  }
+  return areas;
+}
+
+std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference) {
+  std::vector<Eigen::Index> faces;
+  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
+    if (reference.row(f).squaredNorm() == 0.0) continue;
+    if (normals.row(f).dot(reference.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0) faces.push_back(f);
+  }
+  return faces;
+}
+
+double average_edge_length(const Positions& positions, const Triangles& triangles) {
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(static_cast<size_t>(triangles.rows()) * 3);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = triangles(f, c), b = triangles(f, (c + 1) % 3);
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  double sum = 0.0;
+  for (const auto& [a, b] : edges) sum += (positions.row(a) - positions.row(b)).norm();
+  return edges.empty() ? 0.0 : sum / static_cast<double>(edges.size());
+}
+
+namespace {
+
+// Running product of a vertex's corner rotations: the angle sum is
+// arg(re + i im) + 2 pi wraps.
+struct AngleProduct {
+  double re = 1.0, im = 0.0;
+  int wraps = 0;
+};
+
+// Turns `product` further by the corner angle with unit cosine `c` and sine
+// `s` (s >= 0: corner angles are in [0, pi], so the true motion is
+// counter-clockwise). A wrap is counted where the product passes the
+// negative real axis; since rounding can move it a hair clockwise, the
+// crossing is told apart from one of the positive real axis by the signs of
+// the real parts (a genuine turn is at most pi).
+inline void turn(AngleProduct& product, double c, double s) {
+  const double re = product.re * c - product.im * s;
+  const double im = product.re * s + product.im * c;
+  if (product.im >= 0.0) {
+    // Into the lower half through pi; or, for a corner of pi at pi, all the
+    // way round to the upper half's positive side.
+    if (im < 0.0 ? (product.re <= 0.0 || re < 0.0) : (product.re < 0.0 && re > 0.0)) ++product.wraps;
+  } else if (im >= 0.0 && product.re < 0.0 && re < 0.0) {
+    --product.wraps;  // rounding took it back clockwise through pi
+  }
+  product.re = re;
+  product.im = im;
+}
+
+}  // namespace
+
+Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles,
+                              const std::vector<bool>& interior) {
+  // Each corner turns its vertex's running product by the corner angle, so
+  // a vertex needs one atan2 instead of one per corner. A triangle needs
+  // just its edge lengths, one cross product and three dots: cos and sin of
+  // a corner are u.w and |u x w| (the same for all three corners) over
+  // |u| |w|. Agrees with summing per-corner atan2 to ~1e-15 rad.
+  std::vector<AngleProduct> products(static_cast<size_t>(positions.rows()));
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::Vector3d p[3] = {corner(positions, triangles, f, 0), corner(positions, triangles, f, 1),
+                                  corner(positions, triangles, f, 2)};
+    // Edge k runs from corner k to corner k + 1.
+    const Eigen::Vector3d e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};
+    const double length[3] = {e[0].norm(), e[1].norm(), e[2].norm()};
+    // A collapsed edge makes every corner angle 0 (atan2(0, 0)): no turn.
+    if (!(length[0] > 0.0 && length[1] > 0.0 && length[2] > 0.0)) continue;
+    const double inverse[3] = {1.0 / length[0], 1.0 / length[1], 1.0 / length[2]};
+    const double sine_area = e[0].cross(e[2]).norm();  // |u x w| at every corner
+    for (int c = 0; c < 3; ++c) {
+      // Corner c: u = e[c], w = -e[c + 2].
+      const int back = (c + 2) % 3;
+      const double scale = inverse[c] * inverse[back];
+      turn(products[static_cast<size_t>(triangles(f, c))], -e[c].dot(e[back]) * scale, sine_area * scale);
+    }
+  }
+  Eigen::VectorXd defects = Eigen::VectorXd::Zero(positions.rows());
+  for (Eigen::Index v = 0; v < positions.rows(); ++v) {
+    if (!interior[static_cast<size_t>(v)]) continue;
+    const AngleProduct& product = products[static_cast<size_t>(v)];
+    defects[v] = -std::atan2(product.im, product.re) - 2.0 * M_PI * (product.wraps - 1);
+  }
+  return defects;
+}
+
+DefectStats defect_stats(const Eigen::VectorXd& defects, const std::vector<bool>& interior) {
+  DefectStats stats;
+  double sum = 0.0;
+  for (Eigen::Index v = 0; v < defects.size(); ++v) {
+    if (!interior[static_cast<size_t>(v)]) continue;
+    const double value = std::abs(defects[v]);
+    sum += value;
+    stats.max_abs = std::max(stats.max_abs, value);
+    ++stats.interior_count;
+  }
+  if (stats.interior_count > 0) stats.mean_abs = sum / static_cast<double>(stats.interior_count);
+  return stats;
+}
+
+std::vector<bool> interior_vertices(const Positions& positions, const Triangles& triangles) {
+  std::vector<bool> interior = boundary_vertices(positions, triangles);
+  std::vector<bool> used(interior.size(), false);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+    for (int c = 0; c < 3; ++c) used[static_cast<size_t>(triangles(f, c))] = true;
+  for (size_t v = 0; v < interior.size(); ++v) interior[v] = used[v] && !interior[v];
+  return interior;
+}
+
+namespace {
+
+// Angle (rad) between two unit vectors, accurate near 0 and pi.
+double angle_between(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+}  // namespace
+
+CreaseGuard::CreaseGuard(const Triangles& triangles, const Normals& reference, const std::vector<int>& groups,
+                         double growth) {
+  if (!(growth > 0.0) || triangles.rows() == 0) return;
+  const VertexFaces table = vertex_faces(triangles, triangles.maxCoeff() + 1);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int g = face_across(table, triangles, static_cast<int>(f), triangles(f, k), triangles(f, (k + 1) % 3));
+      if (g <= f) continue;  // a boundary edge, or seen from g
+      const bool one_group = groups.empty() || groups[static_cast<size_t>(f)] == groups[static_cast<size_t>(g)];
+      if (!one_group || reference.row(f).squaredNorm() == 0.0 || reference.row(g).squaredNorm() == 0.0) continue;
+      const double limit = angle_between(reference.row(f), reference.row(g)) + growth;
+      if (limit < M_PI) edges_.push_back({f, g, std::cos(limit)});  // else no angle is wider
+    }
+}
+
+namespace {
+
+// Whether the angle between a and b is wider than the angle whose cosine is
+// `c`: a.b < c |a| |b|, squared to save the roots (a zero vector is never
+// wider). An atan2 per watched edge and step was a tenth of a 100k-face
+// run.
+bool wider_than(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b, double c) {
+  const double dot = a.dot(b);
+  const double bound = c * c * a.squaredNorm() * b.squaredNorm();
+  return c >= 0.0 ? dot < 0.0 || dot * dot < bound : dot < 0.0 && dot * dot > bound;
+}
+
+}  // namespace
+
+std::vector<Eigen::Index> CreaseGuard::creased_faces(const Normals& normals) const {
+  std::vector<Eigen::Index> faces;
+  for (const Edge& e : edges_)
+    if (wider_than(normals.row(e.f), normals.row(e.g), e.limit_cosine)) {
+      faces.push_back(e.f);
+      faces.push_back(e.g);
+    }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard) {
+  std::vector<Eigen::Index> faces = turned_over_faces(normals, reference);
+  if (!guard.active()) return faces;
+  const std::vector<Eigen::Index> creased = guard.creased_faces(normals);
+  faces.insert(faces.end(), creased.begin(), creased.end());
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+bool put_back_folded_corners(Positions& positions, const Positions& fallback, const Triangles& triangles,
+                             const Normals& reference, const CreaseGuard& guard, int rounds) {
+  for (int round = 0;; ++round) {
+    const std::vector<Eigen::Index> folded = folded_faces(face_normals(positions, triangles), reference, guard);
+    if (folded.empty()) return true;
+    if (round == rounds) return false;
+    for (Eigen::Index f : folded)
+      for (int c = 0; c < 3; ++c) positions.row(triangles(f, c)) = fallback.row(triangles(f, c));
+  }
+}
+
+double normal_roughness(const Normals& normals, const Triangles& triangles, const VertexFaces& connectivity) {
+  double sum = 0.0;
+  Eigen::Index counted = 0;
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::RowVector3d n = normals.row(f);
+    if (n.squaredNorm() == 0.0) continue;
+    Eigen::RowVector3d around = n;
+    for (int k = 0; k < 3; ++k) {
+      const int g =
+          face_across(connectivity, triangles, static_cast<int>(f), triangles(f, k), triangles(f, (k + 1) % 3));
+      if (g >= 0) around += normals.row(g);
+    }
+    const double length = around.norm();
+    if (length == 0.0) continue;
+    sum += std::acos(std::clamp(n.dot(around) / length, -1.0, 1.0));
+    ++counted;
+  }
+  return counted > 0 ? sum / static_cast<double>(counted) : 0.0;
+}
+
+}  // namespace developable

@@ -1,0 +1,97 @@
+// Stage 2 of the pipeline: the measures the paper's tables report, and the
+// per-face quantities the later stages use.
+#pragma once
+
+#include "core/mesh_connectivity.h"
+#include "core/types.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace developable {
+
+// Unit normal of each triangle (right-handed in the triangle's vertex order).
+// A zero-area triangle gets the zero vector.
+Normals face_normals(const Positions& positions, const Triangles& triangles);
+
+// Area of each triangle, in the caller's units squared.
+Eigen::VectorXd face_areas(const Positions& positions, const Triangles& triangles);
+
+// AE: the mean length over the mesh's undirected edges, caller's units.
+double average_edge_length(const Positions& positions, const Triangles& triangles);
+
+// Discrete Gaussian curvature: the angle defect 2*pi - (sum of the corner
+// angles at the vertex), in radians, for each interior vertex; 0 for boundary
+// vertices and for vertices no triangle uses (`interior` says which is which).
+Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles,
+                              const std::vector<bool>& interior);
+
+struct DefectStats {
+  double mean_abs = 0.0;  // E^mean of the paper: mean |defect| over interior vertices, rad
+  double max_abs = 0.0;
+  Eigen::Index interior_count = 0;
+};
+
+// Mean and max of |defect| over the vertices marked interior.
+DefectStats defect_stats(const Eigen::VectorXd& defects, const std::vector<bool>& interior);
+
+// Faces turned over: those whose unit normal is more than 90 degrees from
+// `reference`'s, or zero (collapsed) where the reference's is not; faces
+// whose reference normal is zero are not checked. Ascending face indices.
+//   normals, reference: one row per face (face_normals).
+std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference);
+
+// The crease guard: a deformation may bend the surface, but not crumple it.
+// It watches every edge between two faces of one group (a patch; edges on
+// a seam between groups may fold, that is where a piecewise developable
+// surface keeps its curvature) and reports the faces of those whose angle
+// between the face normals grew by more than `growth` (rad) over the
+// reference's. A doubly curved region made flat vertex by vertex crumples
+// into such creases (the face and the fingers of human_woman), which no
+// figure of the angle defect shows.
+//   triangles: a validated mesh; reference: its face normals (zero rows are
+//   not watched); groups: one id per face, or empty for one group;
+//   growth <= 0: the guard is off and reports nothing.
+class CreaseGuard {
+ public:
+  CreaseGuard(const Triangles& triangles, const Normals& reference, const std::vector<int>& groups, double growth);
+
+  bool active() const { return !edges_.empty(); }
+
+  // The faces of the watched edges creased at `normals` (face_normals of
+  // the same triangles), ascending and unique.
+  std::vector<Eigen::Index> creased_faces(const Normals& normals) const;
+
+ private:
+  struct Edge {
+    Eigen::Index f, g;
+    double limit_cosine;  // cosine of the reference angle plus the growth (edges where that is < pi)
+  };
+  std::vector<Edge> edges_;
+};
+
+// The faces a step must put back: those turned over against `reference`
+// (turned_over_faces) and those `guard` finds creased, ascending and unique.
+std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard);
+
+// Puts the corners of the folded faces of `positions` (folded_faces against
+// `reference` normals and `guard`) back where `fallback` has them, ring by
+// ring: at most `rounds` rounds, each followed by a fresh look. Returns
+// whether no face is left folded. Where `fallback` folds nothing, enough
+// rounds always succeed (each puts back at least one more vertex).
+bool put_back_folded_corners(Positions& positions, const Positions& fallback, const Triangles& triangles,
+                             const Normals& reference, const CreaseGuard& guard, int rounds);
+
+// Roughness of the normal field: the mean over the faces of the angle (rad)
+// between a face's unit normal and the normalised sum of its own and its
+// edge neighbours' normals. Noise raises it; a smooth surface's comes from
+// its curvature alone (a 2 % AE noisy cylinder grid: about twice the
+// noise-free one's). Zero normals are skipped; 0 for an empty mesh.
+//   normals: face_normals; connectivity: vertex_faces of the same triangles.
+double normal_roughness(const Normals& normals, const Triangles& triangles, const VertexFaces& connectivity);
+
+// Interior vertices: used by some triangle and not on the boundary.
+std::vector<bool> interior_vertices(const Positions& positions, const Triangles& triangles);
+
+}  // namespace developable

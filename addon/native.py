@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 8  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 9  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -60,6 +60,31 @@ UNCHANGED_ALREADY_FLAT = 3
 UNCHANGED_NO_VISIBLE_GAIN = 4
 UNCHANGED_NO_BETTER_ITERATE = 5
 UNCHANGED_REJECTED = 6
+
+# dev_stats.result_origin: which generator made the returned mesh (DEV_ORIGIN_*).
+ORIGIN_INPUT = 0
+ORIGIN_INPUT_POLISH = 4
+ORIGIN_NAMES = {
+    0: "input",
+    1: "deformation",
+    2: "deformation_polish",
+    3: "near_flat_polish",
+    4: "input_polish",
+    5: "smoothed_input_polish",
+    6: "smoothed_step_polish",
+    7: "projected_input",
+}
+
+# Least motion's candidates: the polish of the input itself, or of its smoothing.
+LEAST_MOTION_ORIGINS = frozenset((4, 5, 6, 7))
+SMOOTHED_ORIGINS = frozenset((5, 6, 7))
+
+# dev_stats.worse_figures: or-ed DEV_WORSE_* flags of an improved result.
+WORSE_MEAN_DEFECT = 1
+WORSE_MAX_DEFECT = 2
+WORSE_FLAT_SHARE = 4
+WORSE_RULED_SHARE = 8
+WORSE_TURNED_FACES = 16
 
 if sys.platform.startswith("win"):
     LIBRARY_FILE = "developable.dll"
@@ -137,12 +162,18 @@ class dev_stats(ctypes.Structure):
         # ABI 4
         ("polish_iterations", ctypes.c_int32),
         ("time_polish_ms", ctypes.c_double),
-        # ABI 5
-        ("polished_from_input", ctypes.c_int32),
-        # ABI 6
-        ("input_smoothed", ctypes.c_int32),
         # ABI 7
         ("unchanged_reason", ctypes.c_int32),
+        # ABI 9
+        ("result_origin", ctypes.c_int32),
+        ("worse_figures", ctypes.c_int32),
+        ("ruled_share_before", ctypes.c_double),
+        ("ruled_share_after", ctypes.c_double),
+        ("crumpled_share_before", ctypes.c_double),
+        ("crumpled_share_after", ctypes.c_double),
+        ("move_limit", ctypes.c_double),
+        ("flat_threshold", ctypes.c_double),
+        ("ruled_threshold", ctypes.c_double),
     ]
 
 
@@ -345,6 +376,8 @@ def _declare(lib):
         ctypes.c_int64,
         _i32_p,
         _P(dev_pattern_params),
+        PROGRESS_FN,
+        ctypes.c_void_p,
         _P(_result_p),
         ctypes.c_char_p,
         ctypes.c_size_t,
@@ -531,6 +564,23 @@ def _check(status, what):
         raise EngineError(status, "%s failed" % what)
 
 
+def _progress_callback(progress, errors):
+    """A PROGRESS_FN calling progress(fraction, stage) -> bool (False cancels), or going on
+    when progress is None; a Python error it raises is kept in `errors` and cancels."""
+
+    def _callback(fraction, stage, _user):
+        if progress is None:
+            return 1
+        try:
+            go_on = progress(float(fraction), stage.decode("utf-8", "replace") if stage else "")
+            return 1 if go_on else 0
+        except Exception as exc:  # never let a Python error cross into C
+            errors.append(exc)
+            return 0
+
+    return PROGRESS_FN(_callback)
+
+
 def run(positions, triangles, pinned=None, params=None, progress=None):
     """Runs the engine. Blocks; ctypes releases the GIL during dev_run, so this
     may run on a worker thread while Blender's UI keeps going.
@@ -551,20 +601,8 @@ def run(positions, triangles, pinned=None, params=None, progress=None):
             raise EngineError(7, "pinned has %d entries for %d vertices" % (pin.shape[0], n))
         pin_ptr = pin.ctypes.data_as(_u8_p)
     p = make_params(params)
-
     errors = []
-
-    def _callback(fraction, stage, _user):
-        if progress is None:
-            return 1
-        try:
-            go_on = progress(float(fraction), stage.decode("utf-8", "replace") if stage else "")
-            return 1 if go_on else 0
-        except Exception as exc:  # never let a Python error cross into C
-            errors.append(exc)
-            return 0
-
-    cb = PROGRESS_FN(_callback)  # kept alive for the duration of the call
+    cb = _progress_callback(progress, errors)  # kept alive for the duration of the call
     res = _result_p()
     msg = ctypes.create_string_buffer(1024)
     status = lib.dev_run(
@@ -630,10 +668,12 @@ def _struct_dict(st):
     return out
 
 
-def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None, face_groups=None):
-    """Unfolds (dev_unfold). params: dict of PATTERN_PARAM_NAMES -> value (unit_name may also
+def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None, face_groups=None, progress=None):
+    """Unfolds (dev_unfold). Blocks; ctypes releases the GIL during the call, so this may run
+    on a worker thread. params: dict of PATTERN_PARAM_NAMES -> value (unit_name may also
     set unit_mm when that is not given); svg_path: None or the SVG to write; face_groups: None
-    or (t,) ints, triangles of one group (e.g. polygon) kept in one piece.
+    or (t,) ints, triangles of one group (e.g. polygon) kept in one piece; progress: None or
+    callable(fraction, stage) -> bool (False cancels: EngineError CANCELLED, nothing written).
     Returns Pattern; raises EngineError or LibraryError."""
     lib = load()
     pos = _as_positions(positions)
@@ -663,6 +703,8 @@ def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None, fac
         p.face_groups = groups.ctypes.data_as(_i32_p)
     res = _result_p()
     msg = ctypes.create_string_buffer(1024)
+    errors = []
+    cb = _progress_callback(progress, errors)  # kept alive for the duration of the call
     status = lib.dev_unfold(
         pos.ctypes.data_as(_dbl_p),
         n,
@@ -670,6 +712,8 @@ def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None, fac
         t,
         ids_ptr,
         ctypes.byref(p),
+        cb,
+        None,
         ctypes.byref(res),
         msg,
         len(msg),
@@ -677,7 +721,10 @@ def unfold(positions, triangles, patch_ids=None, params=None, svg_path=None, fac
     if status != STATUS_OK:
         if res.value:
             lib.dev_pattern_free(res)
-        raise EngineError(status, msg.value.decode("utf-8", "replace"))
+        message = msg.value.decode("utf-8", "replace")
+        if errors:
+            message = "%s (progress callback raised %r)" % (message, errors[0])
+        raise EngineError(status, message)
     try:
         out = Pattern()
         st = dev_pattern_stats()

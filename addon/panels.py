@@ -309,6 +309,19 @@ class VIEW3D_PT_developable_parameters(Panel):
         draw_advanced(self.layout, context.scene.developable)
 
 
+# The engine's generators (native.ORIGIN_NAMES) in a designer's words, short enough for the
+# default sidebar width.
+ORIGIN_WORDS = {
+    "deformation": "the deformation",
+    "deformation_polish": "deformation + polish",
+    "near_flat_polish": "deformation + polish",
+    "input_polish": "polishing the input",
+    "smoothed_input_polish": "smoothing + polish",
+    "smoothed_step_polish": "smoothing + polish",
+    "projected_input": "smoothing + projection",
+}
+
+
 def _pct(x):
     return "%.0f %%" % (100 * x) if x >= 0.01 or x == 0 else "%.1f %%" % (100 * x)
 
@@ -330,6 +343,7 @@ def draw_result(layout, context, obj):
             box.label(text=line)
     col = layout.column(align=True)
     col.label(text="Flat vertices: %s \u2192 %s" % (_pct(rec.flat_before), _pct(rec.flat_after)))
+    col.label(text="Flat, not crumpled: %s \u2192 %s" % (_pct(rec.ruled_before), _pct(rec.ruled_after)))
     col.label(text="Curvature: %+.1f %%" % rec.change_percent)
     col.label(text="Moved at most %.2g %% of size" % rec.move_percent)
     col.label(text="  (%s)" % length_text(context, rec.max_move))
@@ -338,14 +352,8 @@ def draw_result(layout, context, obj):
         text="Time: %s, %d iterations"
         % ("%.0f ms" % rec.time_ms if rec.time_ms < 10000 else "%.1f s" % (rec.time_ms / 1000), rec.iterations)
     )
-    if rec.polish_iterations:
-        # Short enough for the default sidebar width.
-        col.label(
-            text=("Polished the input: %d steps" if rec.polished_from_input else "Angle polish: %d steps")
-            % rec.polish_iterations
-        )
-        if rec.input_smoothed:
-            col.label(text="  (its noise smoothed first)")
+    if rec.result_origin in ORIGIN_WORDS:
+        col.label(text="Made by: %s" % ORIGIN_WORDS[rec.result_origin])
     col.label(text="Stopped: %s" % rec.stop_reason)
     col.label(text="Pieces: %d; pinned: %d" % (rec.patches, rec.pinned))
     if rec.engine_result:

@@ -519,6 +519,16 @@ class DEVELOPABLE_PG_result(PropertyGroup):
     flat_after: FloatProperty(
         name="Flat after", precision=4, subtype="FACTOR", description="The same share after the run"
     )
+    ruled_before: FloatProperty(
+        name="Flat and ruled before",
+        precision=4,
+        subtype="FACTOR",
+        description="Share of interior vertices that are flat and whose faces bend about one axis "
+        "(not crumpled into facets) before the run",
+    )
+    ruled_after: FloatProperty(
+        name="Flat and ruled after", precision=4, subtype="FACTOR", description="The same share after the run"
+    )
     faces_turned: IntProperty(
         name="Faces turned over",
         description="Faces whose normal turned by more than 90 degrees "
@@ -538,12 +548,9 @@ class DEVELOPABLE_PG_result(PropertyGroup):
     polish_iterations: IntProperty(
         name="Polish steps", description="Steps of the angle polish kept after the deformation"
     )
-    polished_from_input: BoolProperty(
-        name="Polished the input",
-        description="The result is the angle polish of the input itself: it moved the mesh less than "
-        "the deformation did, and is as flat",
+    result_origin: StringProperty(
+        name="Made by", description="Which of the engine's methods made the result (native.ORIGIN_NAMES)"
     )
-    input_smoothed: BoolProperty(name="Smoothed first", description="The polished input had its noise smoothed first")
     stop_reason: StringProperty(name="Stopped")
     max_move: FloatProperty(
         name="Largest move", precision=5, description="Largest distance a vertex moved (world units)"

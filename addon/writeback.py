@@ -148,8 +148,9 @@ def store_stats(obj, result, scale, pinned_count, figures, verdict, message, eng
     rec.time_iterate_ms = s["time_iterate_ms"]
     rec.iterations = s["iterations"]
     rec.polish_iterations = s.get("polish_iterations", 0)
-    rec.polished_from_input = bool(s.get("polished_from_input", 0))
-    rec.input_smoothed = bool(s.get("input_smoothed", 0))
+    rec.result_origin = native.ORIGIN_NAMES.get(s.get("result_origin", 0), "input")
+    rec.ruled_before = s["ruled_share_before"]
+    rec.ruled_after = s["ruled_share_after"]
     rec.stop_reason = native.STOP_REASONS.get(s["stop_reason"], str(s["stop_reason"]))
     rec.max_move = s["max_vertex_move"]
     rec.average_edge = s["average_edge_length"]

@@ -33,7 +33,7 @@ def check_honest(positions, triangles, result):
         assert s["result_message"] and s["unchanged_reason"] != native.UNCHANGED_NONE
         # Nothing of a polish that was not kept is reported (boat showed
         # "Angle polish: 11 steps" under "Nothing changed").
-        assert s["polish_iterations"] == 0 and s["polished_from_input"] == 0
+        assert s["polish_iterations"] == 0 and s["result_origin"] == 0
     else:
         assert s["result"] == native.RESULT_IMPROVED and s["unchanged_reason"] == native.UNCHANGED_NONE
         # A gain the user sees, not rounding (the engine's kLeastGain).

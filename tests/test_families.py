@@ -213,7 +213,7 @@ def test_a_result_that_changed_the_shape_is_no_reference_for_roughness():
     m = families.random_case("bent_sheet", 9, triangulations=["slivers"])
     r = native.run(m.positions, m.triangles)
     s = r.stats
-    assert s["polished_from_input"], s
+    assert s["result_origin"] in native.LEAST_MOTION_ORIGINS, s
     assert s["flat_share_after"] >= 0.99 and s["change_percent"] <= -99.0, s
     h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
     assert sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) <= 1.5 * h0

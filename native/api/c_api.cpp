@@ -78,6 +78,19 @@ static_assert(DEV_UNCHANGED_ALREADY_FLAT == c_value(developable::UnchangedReason
 static_assert(DEV_UNCHANGED_NO_VISIBLE_GAIN == c_value(developable::UnchangedReason::no_visible_gain));
 static_assert(DEV_UNCHANGED_NO_BETTER_ITERATE == c_value(developable::UnchangedReason::no_better_iterate));
 static_assert(DEV_UNCHANGED_REJECTED == c_value(developable::UnchangedReason::rejected));
+static_assert(DEV_ORIGIN_INPUT == c_value(developable::ResultOrigin::input));
+static_assert(DEV_ORIGIN_DEFORMATION == c_value(developable::ResultOrigin::deformation));
+static_assert(DEV_ORIGIN_DEFORMATION_POLISH == c_value(developable::ResultOrigin::deformation_polish));
+static_assert(DEV_ORIGIN_NEAR_FLAT_POLISH == c_value(developable::ResultOrigin::near_flat_polish));
+static_assert(DEV_ORIGIN_INPUT_POLISH == c_value(developable::ResultOrigin::input_polish));
+static_assert(DEV_ORIGIN_SMOOTHED_INPUT_POLISH == c_value(developable::ResultOrigin::smoothed_input_polish));
+static_assert(DEV_ORIGIN_SMOOTHED_STEP_POLISH == c_value(developable::ResultOrigin::smoothed_step_polish));
+static_assert(DEV_ORIGIN_PROJECTED_INPUT == c_value(developable::ResultOrigin::projected_input));
+static_assert(DEV_WORSE_MEAN_DEFECT == developable::worse_mean_defect);
+static_assert(DEV_WORSE_MAX_DEFECT == developable::worse_max_defect);
+static_assert(DEV_WORSE_FLAT_SHARE == developable::worse_flat_share);
+static_assert(DEV_WORSE_RULED_SHARE == developable::worse_ruled_share);
+static_assert(DEV_WORSE_TURNED_FACES == developable::worse_turned_faces);
 
 void write_message(char* message, size_t capacity, const std::string& text) {
   if (message == nullptr || capacity == 0) return;
@@ -280,9 +293,16 @@ int32_t dev_result_stats(const dev_result* result, dev_stats* stats) {
   stats->flat_share_after = s.flat_share_after;
   stats->polish_iterations = s.polish_iterations;
   stats->time_polish_ms = s.time_polish_ms;
-  stats->polished_from_input = s.polished_from_input ? 1 : 0;
-  stats->input_smoothed = s.input_smoothed ? 1 : 0;
   stats->unchanged_reason = static_cast<int32_t>(s.unchanged_reason);
+  stats->result_origin = static_cast<int32_t>(s.origin);
+  stats->worse_figures = s.worse_figures;
+  stats->ruled_share_before = s.shares_before.ruled;
+  stats->ruled_share_after = s.shares_after.ruled;
+  stats->crumpled_share_before = s.shares_before.crumpled;
+  stats->crumpled_share_after = s.shares_after.crumpled;
+  stats->move_limit = s.move_limit;
+  stats->flat_threshold = developable::kFlatDefect;
+  stats->ruled_threshold = developable::kRuledSpread;
   const size_t length = std::min(s.result_message.size(), sizeof stats->result_message - 1);
   std::memcpy(stats->result_message, s.result_message.data(), length);
   stats->result_message[length] = '\0';
@@ -368,8 +388,8 @@ void dev_default_pattern_params(dev_pattern_params* params) {
 }
 
 int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,
-                   const int32_t* patch_ids, const dev_pattern_params* params, dev_pattern** result, char* message,
-                   size_t message_capacity) {
+                   const int32_t* patch_ids, const dev_pattern_params* params, dev_progress_fn progress, void* user,
+                   dev_pattern** result, char* message, size_t message_capacity) {
   if (result != nullptr) *result = nullptr;
   return guarded(message, message_capacity, [&] {
     const auto start = std::chrono::steady_clock::now();
@@ -402,13 +422,17 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
     const bool write_svg = p.svg_path != nullptr && p.svg_path[0] != '\0';
     require(p.layout != 0 || !write_svg, "svg_path needs layout");
 
+    std::pair<dev_progress_fn, void*> callback{progress, user};
+    const developable::Progress report{progress != nullptr ? call_progress : nullptr, &callback};
     auto owned = std::make_unique<dev_pattern>();
-    owned->unfolded = developable::unfold(mesh_positions, mesh_triangles, patches, unfold_options, groups);
+    owned->unfolded =
+        developable::unfold(mesh_positions, mesh_triangles, patches, unfold_options, groups, report.sub(0.0, 0.8));
     dev_pattern_stats& st = owned->stats;
     st.time_unfold_ms = elapsed_ms(start);
     const auto layout_start = std::chrono::steady_clock::now();
     if (p.layout != 0) {
-      owned->layout = developable::layout_pattern(owned->unfolded, mesh_triangles, layout_options);
+      owned->layout =
+          developable::layout_pattern(owned->unfolded, mesh_triangles, layout_options, report.sub(0.8, 1.0));
       owned->laid_out = true;
       if (write_svg) owned->files = developable::write_pattern_svg(owned->layout, owned->unfolded, p.svg_path);
     }
@@ -435,6 +459,7 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
     st.mean_strain = strain_sum / static_cast<double>(n_triangles);
     st.scale = owned->laid_out ? owned->layout.options.scale : 0.0;
     st.time_total_ms = elapsed_ms(start);
+    report.report(1.0, "done");
     *result = owned.release();
   });
 }

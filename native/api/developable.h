@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 8
+#define DEV_ABI_VERSION 9
 
 /* Status codes (values are stable). */
 enum {
@@ -107,6 +107,29 @@ enum {
   DEV_UNCHANGED_REJECTED = 6               /* every iterate that lowered the curvature turned faces
                                               over, raised the mean |defect| or lost flat vertices
                                               (the message names which) */
+};
+
+/* Which generator made the returned mesh (dev_stats.result_origin, ABI 9). */
+enum {
+  DEV_ORIGIN_INPUT = 0,                 /* the input, returned unchanged (dev_stats.unchanged_reason) */
+  DEV_ORIGIN_DEFORMATION = 1,           /* an iterate of the normal-guided deformation */
+  DEV_ORIGIN_DEFORMATION_POLISH = 2,    /* ... finished by the angle-defect polish */
+  DEV_ORIGIN_NEAR_FLAT_POLISH = 3,      /* ... then its nearly flat vertices polished on their own */
+  DEV_ORIGIN_INPUT_POLISH = 4,          /* least motion: the angle-defect polish of the input itself */
+  DEV_ORIGIN_SMOOTHED_INPUT_POLISH = 5, /* ... of the input with its noise smoothed */
+  DEV_ORIGIN_SMOOTHED_STEP_POLISH = 6,  /* ... of that after one deformation step */
+  DEV_ORIGIN_PROJECTED_INPUT = 7        /* ... the input projected onto developable meshes from its smoothing */
+};
+
+/* Figures of an improved result that a user sees worse than the input's (dev_stats.worse_figures,
+ * or-ed flags, ABI 9). A result with any of them is still better by the engine's rule, but a front
+ * end shows it as a warning. */
+enum {
+  DEV_WORSE_MEAN_DEFECT = 1,  /* mean |defect| grew (a closed surface's curvature gathers on seams) */
+  DEV_WORSE_MAX_DEFECT = 2,   /* largest |defect| grew */
+  DEV_WORSE_FLAT_SHARE = 4,   /* fewer flat vertices */
+  DEV_WORSE_RULED_SHARE = 8,  /* fewer flat-and-ruled vertices */
+  DEV_WORSE_TURNED_FACES = 16 /* faces turned over */
 };
 
 /* Seam treatment for segmented meshes (issue: segmentation). */
@@ -186,15 +209,21 @@ typedef struct dev_stats {
   /* ABI 4: */
   int32_t polish_iterations; /* steps of the angle-defect polish kept (0: none, or it was off) */
   double time_polish_ms;     /* the polish's share of t_T */
-  /* ABI 5: */
-  int32_t polished_from_input; /* 1: the result is the polish of the input itself, which moved the
-                                  mesh less than the deformation and its polish, as flat */
-  /* ABI 6: */
-  int32_t input_smoothed; /* 1 (with polished_from_input): the polish started from the input
-                             with its noise smoothed (or projected the input onto developable
-                             meshes from there) */
   /* ABI 7: */
   int32_t unchanged_reason; /* DEV_UNCHANGED_*: why the input came back (0 when improved) */
+  /* ABI 9: */
+  int32_t result_origin;     /* DEV_ORIGIN_*: which generator made the returned mesh */
+  int32_t worse_figures;     /* DEV_WORSE_* flags: figures of the result worse than the input's */
+  double ruled_share_before; /* share of interior vertices flat AND ruled: |defect| < flat_threshold
+                                and the normals of their faces within ruled_threshold (rms, rad) of
+                                one great circle (the faces bend about one axis) */
+  double ruled_share_after;
+  double crumpled_share_before; /* flat but not ruled: zero angle defect bought with a zigzag of facets */
+  double crumpled_share_after;
+  double move_limit;      /* the largest move a vertex was allowed, caller's units (the smaller
+                             of tolerance * AE and max_move * diagonal); 0: no limit */
+  double flat_threshold;  /* rad: the |defect| under which a vertex counts as flat (1e-3) */
+  double ruled_threshold; /* rad: the normals' spread under which a flat vertex counts as ruled */
 } dev_stats;
 
 /* Opaque result of one run; free with dev_result_free. */
@@ -354,12 +383,14 @@ DEV_API void dev_default_pattern_params(dev_pattern_params* params);
  *   positions, triangles: as for dev_run (checked by the same validation).
  *   patch_ids: NULL (one patch) or n_triangles int32 >= 0, e.g. dev_result_patch_ids.
  *   params: NULL for the defaults.
+ *   progress, user: NULL, or a callback as for dev_run (ABI 9); returning 0 cancels the call
+ *     (DEV_STATUS_CANCELLED, nothing written).
  *   result: receives a new pattern on DEV_STATUS_OK, NULL otherwise.
  * Returns a DEV_STATUS_* code; a piece that does not fit the sheet at the given scale, a bad
  * sheet size or an unwritable svg_path is DEV_STATUS_INVALID_ARGUMENT with the reason. */
 DEV_API int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,
-                           const int32_t* patch_ids, const dev_pattern_params* params, dev_pattern** result,
-                           char* message, size_t message_capacity);
+                           const int32_t* patch_ids, const dev_pattern_params* params, dev_progress_fn progress,
+                           void* user, dev_pattern** result, char* message, size_t message_capacity);
 
 DEV_API void dev_pattern_free(dev_pattern* pattern);
 

@@ -2,6 +2,7 @@
 
 #include "core/mesh_input.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -238,6 +239,42 @@ double normal_roughness(const Normals& normals, const Triangles& triangles, cons
     ++counted;
   }
   return counted > 0 ? sum / static_cast<double>(counted) : 0.0;
+}
+
+Eigen::VectorXd ruling_spreads(const Normals& normals, const VertexFaces& connectivity,
+                               const std::vector<bool>& interior) {
+  Eigen::VectorXd spreads = Eigen::VectorXd::Zero(connectivity.vertex_count());
+  for (Eigen::Index v = 0; v < connectivity.vertex_count(); ++v) {
+    if (!interior[static_cast<size_t>(v)]) continue;
+    Eigen::Matrix3d moments = Eigen::Matrix3d::Zero();
+    int count = 0;
+    for (const int* f = connectivity.begin(v); f != connectivity.end(v); ++f) {
+      const Eigen::Vector3d n = normals.row(*f).transpose();
+      if (n.squaredNorm() == 0.0) continue;
+      moments.noalias() += n * n.transpose();
+      ++count;
+    }
+    if (count < 3) continue;  // two normals always lie on a great circle
+    const double smallest =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(moments, Eigen::EigenvaluesOnly).eigenvalues()[0];
+    spreads[v] = std::asin(std::sqrt(std::clamp(smallest / count, 0.0, 1.0)));
+  }
+  return spreads;
+}
+
+VertexShares vertex_shares(const Eigen::VectorXd& defects, const Eigen::VectorXd& spreads,
+                           const std::vector<bool>& interior) {
+  Eigen::Index count = 0, flat = 0, ruled = 0;
+  for (Eigen::Index v = 0; v < defects.size(); ++v) {
+    if (!interior[static_cast<size_t>(v)]) continue;
+    ++count;
+    if (!(std::abs(defects[v]) < kFlatDefect)) continue;
+    ++flat;
+    if (spreads[v] < kRuledSpread) ++ruled;
+  }
+  if (count == 0) return {};
+  const double total = static_cast<double>(count);
+  return {flat / total, ruled / total, (flat - ruled) / total};
 }
 
 }  // namespace developable

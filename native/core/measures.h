@@ -11,6 +11,19 @@
 
 namespace developable {
 
+// |defect| (rad) under which an interior vertex counts as flat: the one flat
+// threshold of the engine, its messages and its reports.
+inline constexpr double kFlatDefect = 1e-3;
+
+// Spread (rad) of a vertex's face normals off their best great circle
+// (ruling_spreads) under which it counts as ruled: its faces bend about one
+// axis, as on a plane, a cylinder, a cone or a tangent developable. A vertex
+// flat but not ruled is crumpled: zero angle defect bought with a zigzag of
+// facets (Stein, Grinspun, Crane 2018 use the same covariance as their
+// energy). 0.02 rad: a noisy cylinder patch of the families (2 % AE noise)
+// made flat keeps 93 % of its vertices under it, a crumpled human figure 51 %.
+inline constexpr double kRuledSpread = 0.02;
+
 // Unit normal of each triangle (right-handed in the triangle's vertex order).
 // A zero-area triangle gets the zero vector.
 Normals face_normals(const Positions& positions, const Triangles& triangles);
@@ -90,6 +103,28 @@ bool put_back_folded_corners(Positions& positions, const Positions& fallback, co
 // noise-free one's). Zero normals are skipped; 0 for an empty mesh.
 //   normals: face_normals; connectivity: vertex_faces of the same triangles.
 double normal_roughness(const Normals& normals, const Triangles& triangles, const VertexFaces& connectivity);
+
+// How far the faces around each vertex are from bending about one axis: the
+// root-mean-square sine of their unit normals' angles off the great circle
+// that fits them best, as an angle (rad): asin(sqrt(lambda_min / k)), where
+// lambda_min is the smallest eigenvalue of the sum of n n^T over the k faces
+// of the vertex (each face counts once, whatever its area: a crumpled zigzag
+// is made of small faces). 0 where the normals lie on one great circle
+// (plane, cylinder, cone, any developable's smooth part) and off the
+// interior; zero normals are skipped.
+//   normals: face_normals; connectivity: vertex_faces of the same triangles;
+//   interior: interior_vertices.
+Eigen::VectorXd ruling_spreads(const Normals& normals, const VertexFaces& connectivity,
+                               const std::vector<bool>& interior);
+
+// The developability a user sees, as shares (0..1) of the interior vertices:
+// flat (|defect| < kFlatDefect), flat and ruled (spread < kRuledSpread too)
+// and crumpled (flat, not ruled). All 0 without interior vertices.
+struct VertexShares {
+  double flat = 0.0, ruled = 0.0, crumpled = 0.0;
+};
+VertexShares vertex_shares(const Eigen::VectorXd& defects, const Eigen::VectorXd& spreads,
+                           const std::vector<bool>& interior);
 
 // Interior vertices: used by some triangle and not on the boundary.
 std::vector<bool> interior_vertices(const Positions& positions, const Triangles& triangles);

@@ -30,9 +30,9 @@ constexpr double kStallDecrease = 1e-6;
 constexpr double kReuseDecrease = 0.5;
 // Halvings of a step that does not lower sum K^2 before the factor is renewed.
 constexpr int kHalvings = 3;
-// The stall window (kept steps) and the flat threshold of the stall rule.
+// The stall window (kept steps) of the stall rule; its flat threshold is
+// kFlatDefect (measures.h).
 constexpr size_t kStallWindow = 10;
-constexpr double kFlatDefect = 1e-3;
 // Once every row is flat, the rest only finishes what is already flat: a
 // polish whose last kFinishWindow steps took off less than kFinishDecrease of
 // sum K^2 stops (the benchmark's noise-free wavy cone of 100k faces, flat

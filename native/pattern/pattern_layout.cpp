@@ -185,7 +185,8 @@ std::string piece_label(int index) {
   return text;
 }
 
-Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, const LayoutOptions& options) {
+Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, const LayoutOptions& options,
+                      const Progress& progress) {
   const auto finite_positive = [](double x) { return std::isfinite(x) && x > 0.0; };
   if (!finite_positive(options.sheet_width) || !finite_positive(options.sheet_height))
     throw EngineError(Status::invalid_argument, "the sheet width and height must be positive (mm)");
@@ -222,6 +223,7 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, 
   std::vector<double> turn(n_pieces);
   std::vector<Eigen::AlignedBox2d> box(n_pieces);
   for (size_t p = 0; p < n_pieces; ++p) {
+    progress.report(static_cast<double>(p) / static_cast<double>(n_pieces), "laying out");
     std::vector<Vec2> points;
     for (const auto& loop : unfolded.pieces[p].outline)
       for (Eigen::Index row : loop) points.push_back(unfolded.corners.row(row).transpose());

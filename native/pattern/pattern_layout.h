@@ -93,8 +93,10 @@ struct Layout {
 // negative, non-finite or too wide seam allowance or glue tab, both of them, a
 // margin that leaves no room, or a piece
 // that does not fit the printable area at the given scale (the message names
-// the piece, its size and the scale that would fit).
-Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, const LayoutOptions& options = {});
+// the piece, its size and the scale that would fit), cancelled when `progress`
+// says stop (reported as the share of the pieces placed).
+Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, const LayoutOptions& options = {},
+                      const Progress& progress = {});
 
 // Piece p's outline on its sheet (its one loop, since pieces are discs): the
 // layout's corners in the unfolding's outline order, mm.

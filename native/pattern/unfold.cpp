@@ -761,7 +761,7 @@ int corner_of(const Triangles& triangles, int face, int vertex) {
 }  // namespace
 
 UnfoldResult unfold(const Positions& positions, const Triangles& triangles, const std::vector<int>& patch_ids,
-                    const UnfoldOptions& options, const std::vector<int>& face_groups) {
+                    const UnfoldOptions& options, const std::vector<int>& face_groups, const Progress& progress) {
   const Eigen::Index nf = triangles.rows();
   if (!patch_ids.empty() && static_cast<Eigen::Index>(patch_ids.size()) != nf)
     throw EngineError(Status::invalid_argument, "patch_ids has " + std::to_string(patch_ids.size()) + " entries for " +
@@ -808,7 +808,9 @@ UnfoldResult unfold(const Positions& positions, const Triangles& triangles, cons
   std::sort(stack.begin(), stack.end(), [](const auto& a, const auto& b) {
     return a.first.size() != b.first.size() ? a.first.size() < b.first.size() : a.first[0] > b.first[0];
   });
+  Eigen::Index faces_done = 0;
   while (!stack.empty()) {
+    progress.report(static_cast<double>(faces_done) / static_cast<double>(nf), "unfolding");
     auto [faces, splits] = std::move(stack.back());
     stack.pop_back();
     const LocalPiece piece = local_piece(triangles, faces, face_groups);
@@ -822,6 +824,7 @@ UnfoldResult unfold(const Positions& positions, const Triangles& triangles, cons
         for (auto& part : connected_parts(triangles, half)) stack.emplace_back(std::move(part), splits + 1);
       continue;
     }
+    faces_done += static_cast<Eigen::Index>(faces.size());
     const int id = static_cast<int>(result.pieces.size());
     UnfoldPiece out;
     out.patch = patch_of(faces[0]);

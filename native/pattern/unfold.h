@@ -93,8 +93,11 @@ struct UnfoldResult {
 // which always lie flat. Exact developables therefore come back isometric up
 // to rounding.
 // Throws EngineError(invalid_argument) for a patch_ids or face_groups of the wrong size or a
-// negative id, numerical_failure if a factorisation fails on every split.
+// negative id, numerical_failure if a factorisation fails on every split,
+// cancelled when `progress` says stop (reported as the share of the faces laid
+// flat, between pieces).
 UnfoldResult unfold(const Positions& positions, const Triangles& triangles, const std::vector<int>& patch_ids,
-                    const UnfoldOptions& options = {}, const std::vector<int>& face_groups = {});
+                    const UnfoldOptions& options = {}, const std::vector<int>& face_groups = {},
+                    const Progress& progress = {});
 
 }  // namespace developable

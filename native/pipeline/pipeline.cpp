@@ -1047,6 +1047,17 @@ class StallRule {
   std::vector<double> history_;
 };
 
+// The WorseFigure flags of an improved result's stats against the input's.
+int worse_figures(const PipelineStats& s) {
+  int worse = 0;
+  if (s.mean_defect_after > s.mean_defect_before) worse |= worse_mean_defect;
+  if (s.max_defect_after > s.max_defect_before) worse |= worse_max_defect;
+  if (s.flat_share_after < s.flat_share_before) worse |= worse_flat_share;
+  if (s.shares_after.ruled < s.shares_before.ruled) worse |= worse_ruled_share;
+  if (s.faces_turned_over > 0) worse |= worse_turned_faces;
+  return worse;
+}
+
 // The result's message: why the input came back, or which figure grew.
 std::string result_message(const PipelineStats& stats, const Rejections& rejected) {
   if (stats.result == ResultKind::unchanged) return unchanged_message(rejected, stats);
@@ -1166,8 +1177,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     stats.max_defect_after = before.max_abs;
     stats.flat_share_after = stats.flat_share_before;
     stats.polish_iterations = 0;
-    stats.polished_from_input = false;
-    stats.input_smoothed = false;
+    stats.origin = ResultOrigin::input;
   };
   return_input();
   stats.result = ResultKind::unchanged;
@@ -1230,8 +1240,9 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
   double best_score = input_bar, previous_mean = before.mean_abs;
   bool improved = false;
   // Makes an eligible, better candidate the result.
-  const auto keep = [&](const Positions& candidate, const Figures& now) {
+  const auto keep = [&](const Positions& candidate, const Figures& now, ResultOrigin origin) {
     improved = true;
+    stats.origin = origin;
     best_score = now.score;
     result.positions = candidate;
     result.defect_after = now.defects;
@@ -1304,7 +1315,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         second_phase &&
         (now.flat < first_phase_flat || rms_move(current, positions) > kSecondPhaseMove * first_phase_move);
     if (judge.eligible(now) && !second_phase_worse && now.score < best_score) {
-      keep(current, now);
+      keep(current, now, ResultOrigin::deformation);
       result.curves = step_curves;
       result.target_normals = deformation.targets();
     }
@@ -1396,7 +1407,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
           if (unguarded_check.active() && !unguarded_check.creased_faces(polished_normals).empty()) {
             judge.reject_creased();
           } else {
-            keep(polished.positions, now);
+            keep(polished.positions, now, improved ? ResultOrigin::deformation_polish : ResultOrigin::input_polish);
             stats.polish_iterations = polished.iterations;
           }
         }
@@ -1438,7 +1449,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
             !as_developable(developability_of(now), bar, before))
           break;
         const double gain = now.flat - stats.flat_share_after;
-        keep(finished.positions, now);
+        keep(finished.positions, now, ResultOrigin::near_flat_polish);
         stats.polish_iterations += finished.iterations;
         if (gain < kNearFlatRoundGain) break;
       }
@@ -1461,13 +1472,13 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
       // so the result does not depend on the thread count.
       struct Start {
         Positions positions;
-        bool smoothed;
-        double move;  // RMS from the input
+        ResultOrigin origin;  // of its polish, should it win
+        double move;          // RMS from the input
         PolishResult polished;
         bool projected = false;  // polished as the projection of the input (kProjectionSteps)
       };
       std::vector<Start> starts;
-      starts.push_back({positions, false, 0.0, {}});
+      starts.push_back({positions, ResultOrigin::input_polish, 0.0, {}});
       if (deformed) {
         // The polish of the input gives up past the result's move once the
         // result's polishes have set it (PolishOptions::late_give_up_move).
@@ -1505,13 +1516,13 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         // family runs of seeds 0-9 and 100-102 changed, the mean log ratio
         // to the twin by 0.0002.
         if (!same_start && deformed) {
-          starts.push_back({smoothed, true, smoothing_move, {}});
+          starts.push_back({smoothed, ResultOrigin::smoothed_input_polish, smoothing_move, {}});
           Normals smoothed_normals = face_normals(smoothed, triangles);
           targets.refit(smoothed, smoothed_normals);
           deformation.set_targets(targets.targets());
           stats.fold_retries += step.advance(smoothed, smoothed_normals);
           const double stepped_move = rms_move(smoothed, positions);
-          starts.push_back({std::move(smoothed), true, stepped_move, {}});
+          starts.push_back({std::move(smoothed), ResultOrigin::smoothed_step_polish, stepped_move, {}});
         }
         // The projection of the input from its smoothing without the feature
         // guard (kProjectionSmoothing), on one patch (a segmented object's
@@ -1530,7 +1541,7 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
                                   CreaseGuard(triangles, normals_before, {}, 0.0), static_cast<int>(positions.rows()));
           const double projected_move = rms_move(projected_start, positions);
           if (projected_move >= kSameStartShare * least_motion.move())
-            starts.push_back({std::move(projected_start), true, projected_move, {}, true});
+            starts.push_back({std::move(projected_start), ResultOrigin::projected_input, projected_move, {}, true});
         }
       }
       // Each candidate is judged as if they were polished one after the
@@ -1546,10 +1557,8 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
         const Figures now = judge.measure(direct.positions, direct_normals);
         if (judge.eligible(now) && now.score < input_bar &&
             least_motion.wins(direct.positions, direct_normals, developability_of(now), start.projected)) {
-          keep(direct.positions, now);
+          keep(direct.positions, now, start.origin);
           stats.polish_iterations = direct.iterations;
-          stats.polished_from_input = true;
-          stats.input_smoothed = start.smoothed;
         }
       };
       judge_candidate(starts[0]);
@@ -1612,8 +1621,14 @@ PipelineResult deform_patches(const MeasuredInput& input_measures, Patches patch
     if (pinned[static_cast<size_t>(v)]) result.positions.row(v) = positions.row(v);
   for (Eigen::Index v = 0; v < n; ++v)
     stats.max_vertex_move = std::max(stats.max_vertex_move, (result.positions.row(v) - positions.row(v)).norm());
-  stats.faces_turned_over =
-      static_cast<Eigen::Index>(turned_over_faces(face_normals(result.positions, triangles), normals_before).size());
+  const Normals result_normals = face_normals(result.positions, triangles);
+  stats.faces_turned_over = static_cast<Eigen::Index>(turned_over_faces(result_normals, normals_before).size());
+  stats.shares_after =
+      improved ? vertex_shares(result.defect_after, ruling_spreads(result_normals, connectivity, result.interior),
+                               result.interior)
+               : stats.shares_before;
+  stats.worse_figures = improved ? worse_figures(stats) : 0;
+  stats.move_limit = limit;
   stats.change_percent = 100.0 * (stats.mean_defect_after - stats.mean_defect_before) / stats.mean_defect_before;
   stats.time_total_ms = elapsed_ms(start_time);
   progress.report(1.0, "done");
@@ -1676,6 +1691,9 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   stats.max_defect_before = input.before.max_abs;
   stats.average_edge_length = average_edge_length(positions, triangles);
   stats.flat_share_before = flat_share(measured.defect_before, measured.interior);
+  stats.shares_before = vertex_shares(
+      measured.defect_before, ruling_spreads(face_normals(positions, triangles), connectivity, measured.interior),
+      measured.interior);
   input.limit = move_limit(positions, options, stats.average_edge_length);
   input.pinned = pins_of(positions, triangles, pinned_input, options);
   input.normals = face_normals(positions, triangles);

@@ -9,6 +9,7 @@
 //                                        (jet_denoise.h: the smoothed input)
 #pragma once
 
+#include "core/measures.h"
 #include "core/types.h"
 #include "deformation/defect_polish.h"
 #include "deformation/deformation.h"
@@ -47,6 +48,28 @@ enum class StopReason { already_developable = 0, converged = 1, iteration_limit 
 // PipelineStats::result_message).
 enum class ResultKind { improved = 0, unchanged = 1 };
 
+// Which generator made the returned mesh (developable.h, DEV_ORIGIN_*).
+enum class ResultOrigin {
+  input = 0,                  // the input, returned unchanged
+  deformation = 1,            // an iterate of the normal-guided deformation
+  deformation_polish = 2,     // ... finished by the angle-defect polish
+  near_flat_polish = 3,       // ... then its nearly flat vertices polished on their own
+  input_polish = 4,           // least motion: the polish of the input itself
+  smoothed_input_polish = 5,  // ... of the input with its noise smoothed (jet_denoise.h)
+  smoothed_step_polish = 6,   // ... of that after one deformation step
+  projected_input = 7,        // ... the input projected onto developable meshes from its smoothing
+};
+
+// Figures of the result a user sees worse than the input's (developable.h,
+// DEV_WORSE_*), or-ed into PipelineStats::worse_figures.
+enum WorseFigure : int {
+  worse_mean_defect = 1,
+  worse_max_defect = 2,
+  worse_flat_share = 4,
+  worse_ruled_share = 8,
+  worse_turned_faces = 16,
+};
+
 // Why run_pipeline returned the input (developable.h, DEV_UNCHANGED_*).
 enum class UnchangedReason {
   none = 0,
@@ -57,9 +80,6 @@ enum class UnchangedReason {
   no_better_iterate = 5,
   rejected = 6
 };
-
-// |defect| (rad) under which an interior vertex counts as flat (the flat share).
-inline constexpr double kFlatDefect = 1e-3;
 
 struct PipelineOptions {
   double omega = 5.0;       // weight of the normal rows, > 0
@@ -130,23 +150,23 @@ struct PipelineStats {
   double average_edge_length = 0.0;                          // AE
   double mean_defect_before = 0.0, mean_defect_after = 0.0;  // E^mean, rad
   double max_defect_before = 0.0, max_defect_after = 0.0;
-  double change_percent = 0.0;   // dE^mean, %
-  double max_vertex_move = 0.0;  // caller's units
-  int fold_retries = 0;          // extra solves and shortenings of steps that would have folded
-  int polish_iterations = 0;     // steps of the angle-defect polish kept (defect_polish.h)
-  // The result is the polish of the input itself, which moved the mesh less
-  // than the deformation and its polish (run_pipeline, "least motion").
-  bool polished_from_input = false;
-  // ... with its noise smoothed first (jet_denoise.h; maybe one deformation
-  // step after that).
-  bool input_smoothed = false;
+  double change_percent = 0.0;                // dE^mean, %
+  double max_vertex_move = 0.0;               // caller's units
+  int fold_retries = 0;                       // extra solves and shortenings of steps that would have folded
+  int polish_iterations = 0;                  // steps of the angle-defect polish kept (defect_polish.h)
+  ResultOrigin origin = ResultOrigin::input;  // which generator made the returned mesh
   double time_decompose_ms = 0.0, time_iterate_ms = 0.0, time_total_ms = 0.0;  // t_D, t_I, t_T
   double time_polish_ms = 0.0;
   ResultKind result = ResultKind::unchanged;
   UnchangedReason unchanged_reason = UnchangedReason::none;  // with result unchanged
   Eigen::Index faces_turned_over = 0;                        // faces of the result > 90 degrees from the input's
   double flat_share_before = 0.0, flat_share_after = 0.0;    // interior share with |defect| < kFlatDefect
-  std::string result_message;                                // plain words for the user; empty when improved
+  // Flat, flat and ruled, and crumpled shares of the interior (vertex_shares
+  // in measures.h); `flat` equals flat_share_*.
+  VertexShares shares_before, shares_after;
+  int worse_figures = 0;       // WorseFigure flags of the result against the input; 0 when unchanged
+  double move_limit = 0.0;     // the largest move a vertex was allowed (caller's units); 0: no limit
+  std::string result_message;  // plain words for the user; empty when improved
 };
 
 struct PipelineResult {

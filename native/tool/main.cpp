@@ -142,6 +142,27 @@ const char* stop_reason_name(int32_t reason) {
   }
 }
 
+const char* origin_name(int32_t origin) {
+  switch (origin) {
+    case DEV_ORIGIN_DEFORMATION:
+      return "deformation";
+    case DEV_ORIGIN_DEFORMATION_POLISH:
+      return "deformation_polish";
+    case DEV_ORIGIN_NEAR_FLAT_POLISH:
+      return "near_flat_polish";
+    case DEV_ORIGIN_INPUT_POLISH:
+      return "input_polish";
+    case DEV_ORIGIN_SMOOTHED_INPUT_POLISH:
+      return "smoothed_input_polish";
+    case DEV_ORIGIN_SMOOTHED_STEP_POLISH:
+      return "smoothed_step_polish";
+    case DEV_ORIGIN_PROJECTED_INPUT:
+      return "projected_input";
+    default:
+      return "input";
+  }
+}
+
 const char* unchanged_reason_name(int32_t reason) {
   switch (reason) {
     case DEV_UNCHANGED_ALREADY_DEVELOPABLE:
@@ -263,14 +284,19 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
        << ", \"time_iterate_ms\": " << json_number(s.time_iterate_ms)
        << ", \"time_total_ms\": " << json_number(s.time_total_ms)
        << ", \"time_polish_ms\": " << json_number(s.time_polish_ms)
-       << ", \"polish_iterations\": " << s.polish_iterations
-       << ", \"polished_from_input\": " << (s.polished_from_input ? "true" : "false")
-       << ", \"input_smoothed\": " << (s.input_smoothed ? "true" : "false") << ", \"result\": \""
+       << ", \"polish_iterations\": " << s.polish_iterations << ", \"result_origin\": \""
+       << origin_name(s.result_origin) << "\""
+       << ", \"worse_figures\": " << s.worse_figures << ", \"result\": \""
        << (s.result == DEV_RESULT_UNCHANGED ? "unchanged" : "improved") << "\""
        << ", \"unchanged_reason\": \"" << unchanged_reason_name(s.unchanged_reason) << "\""
        << ", \"faces_turned_over\": " << s.faces_turned_over
        << ", \"flat_share_before\": " << json_number(s.flat_share_before)
-       << ", \"flat_share_after\": " << json_number(s.flat_share_after) << ", \"result_message\": \""
+       << ", \"flat_share_after\": " << json_number(s.flat_share_after)
+       << ", \"ruled_share_before\": " << json_number(s.ruled_share_before)
+       << ", \"ruled_share_after\": " << json_number(s.ruled_share_after)
+       << ", \"crumpled_share_before\": " << json_number(s.crumpled_share_before)
+       << ", \"crumpled_share_after\": " << json_number(s.crumpled_share_after)
+       << ", \"move_limit\": " << json_number(s.move_limit) << ", \"result_message\": \""
        << json_string(s.result_message) << "\"},\n";
   std::vector<int32_t> patches(static_cast<size_t>(s.faces));
   dev_result_patch_ids(result, patches.data(), s.faces);
@@ -442,7 +468,7 @@ int main(int argc, char** argv) {
     dev_pattern* pattern = nullptr;
     const int32_t unfolded =
         dev_unfold(positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(), patches.data(),
-                   &pattern_params, &pattern, message, sizeof message);
+                   &pattern_params, nullptr, nullptr, &pattern, message, sizeof message);
     if (unfolded != DEV_STATUS_OK) {
       dev_result_free(result);
       die(2, "pattern: " + std::string(message));
@@ -455,26 +481,25 @@ int main(int argc, char** argv) {
   dev_result_free(result);
 
   if (!quiet) {
-    std::fprintf(
-        stderr,
-        "#v %lld  #f %lld  AE %.4g  patches %lld\n"
-        "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
-        "iterations %d (%s), polish %d%s  largest move %.4g (%.3g AE)\n"
-        "t_D %.2f ms  t_I %.2f ms  polish %.2f ms  t_T %.2f ms\n",
-        static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces), stats.average_edge_length,
-        static_cast<long long>(stats.patches), stats.mean_defect_before, stats.mean_defect_after, stats.change_percent,
-        stats.max_defect_before, stats.max_defect_after, stats.iterations, stop_reason_name(stats.stop_reason),
-        stats.polish_iterations,
-        stats.polished_from_input ? (stats.input_smoothed ? " (of the smoothed input)" : " (of the input)") : "",
-        stats.max_vertex_move, stats.max_vertex_move / stats.average_edge_length, stats.time_decompose_ms,
-        stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
+    std::fprintf(stderr,
+                 "#v %lld  #f %lld  AE %.4g  patches %lld\n"
+                 "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
+                 "iterations %d (%s), polish %d, result from %s  largest move %.4g (%.3g AE, limit %.4g)\n"
+                 "t_D %.2f ms  t_I %.2f ms  polish %.2f ms  t_T %.2f ms\n",
+                 static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces), stats.average_edge_length,
+                 static_cast<long long>(stats.patches), stats.mean_defect_before, stats.mean_defect_after,
+                 stats.change_percent, stats.max_defect_before, stats.max_defect_after, stats.iterations,
+                 stop_reason_name(stats.stop_reason), stats.polish_iterations, origin_name(stats.result_origin),
+                 stats.max_vertex_move, stats.max_vertex_move / stats.average_edge_length, stats.move_limit,
+                 stats.time_decompose_ms, stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
     const std::string result_kind =
         stats.result == DEV_RESULT_UNCHANGED
             ? std::string("unchanged (") + unchanged_reason_name(stats.unchanged_reason) + ")"
             : "improved";
-    std::fprintf(stderr, "flat %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
-                 100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after,
-                 static_cast<long long>(stats.faces_turned_over), result_kind.c_str());
+    std::fprintf(stderr,
+                 "flat %.1f %% -> %.1f %%  flat and ruled %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
+                 100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after, 100.0 * stats.ruled_share_before,
+                 100.0 * stats.ruled_share_after, static_cast<long long>(stats.faces_turned_over), result_kind.c_str());
     if (!pattern_file.empty())
       std::fprintf(stderr,
                    "pattern: %lld pieces on %lld sheets at scale %g, %lld seams, %lld cut edges, "

@@ -175,5 +175,60 @@ TEST(Measures, NormalRoughnessIsZeroFlatAndGrowsWithNoise) {
   EXPECT_GT(normal_roughness(face_normals(m.positions, m.triangles), m.triangles, table), 1.5 * smooth);
 }
 
+// ruling_spreads: the normals around every vertex of a plane or a cylinder
+// lie on one great circle; a cone's trace a small circle, whose short arcs
+// stay well under the ruled threshold; normals tilted two ways at once (a
+// crumpled zigzag) do not, and vertex_shares counts those as crumpled.
+TEST(Measures, RulingSpreadIsZeroWhereTheSurfaceBendsAboutOneAxis) {
+  for (const auto& m : {test::plane(), test::cylinder(10, 30)}) {
+    const auto table = vertex_faces(m.triangles, m.positions.rows());
+    const auto interior = interior_vertices(m.positions, m.triangles);
+    EXPECT_LT(ruling_spreads(face_normals(m.positions, m.triangles), table, interior).maxCoeff(), 1e-6);
+  }
+  const auto cone = test::cone(10, 30);
+  const auto table = vertex_faces(cone.triangles, cone.positions.rows());
+  const Eigen::VectorXd spreads = ruling_spreads(face_normals(cone.positions, cone.triangles), table,
+                                                 interior_vertices(cone.positions, cone.triangles));
+  EXPECT_LT(spreads.maxCoeff(), 0.2 * kRuledSpread);
+
+  // The plane's connectivity with its faces' normals tilted by 0.2 rad in
+  // random directions (two normals always share a great circle; the six of
+  // a star, tilted every way, do not).
+  const auto plane = test::plane();
+  const auto plane_table = vertex_faces(plane.triangles, plane.positions.rows());
+  const auto interior = interior_vertices(plane.positions, plane.triangles);
+  Normals zigzag(plane.triangles.rows(), 3);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> direction(0.0, 2.0 * M_PI);
+  for (Eigen::Index f = 0; f < zigzag.rows(); ++f) {
+    const double a = direction(random);
+    zigzag.row(f) = Eigen::RowVector3d(0.2 * std::cos(a), 0.2 * std::sin(a), 1.0).normalized();
+  }
+  const Eigen::VectorXd crumpled = ruling_spreads(zigzag, plane_table, interior);
+  for (Eigen::Index v = 0; v < crumpled.size(); ++v) {
+    if (interior[static_cast<size_t>(v)])
+      EXPECT_GT(crumpled[v], kRuledSpread) << "vertex " << v;
+    else
+      EXPECT_EQ(crumpled[v], 0.0);
+  }
+  const VertexShares shares = vertex_shares(Eigen::VectorXd::Zero(crumpled.size()), crumpled, interior);
+  EXPECT_EQ(shares.flat, 1.0);
+  EXPECT_EQ(shares.ruled, 0.0);
+  EXPECT_EQ(shares.crumpled, 1.0);
+}
+
+// vertex_shares counts the interior only: flat below kFlatDefect, ruled
+// below kRuledSpread among the flat, crumpled the flat rest.
+TEST(Measures, VertexSharesCountFlatRuledAndCrumpledInteriorVertices) {
+  const Eigen::VectorXd defects = (Eigen::VectorXd(5) << 0.0, 2e-3, 5e-4, -5e-4, 1.0).finished();
+  const Eigen::VectorXd spreads = (Eigen::VectorXd(5) << 0.0, 0.0, 0.5, 0.01, 0.0).finished();
+  const VertexShares shares = vertex_shares(defects, spreads, {true, true, true, true, false});
+  EXPECT_DOUBLE_EQ(shares.flat, 0.75);
+  EXPECT_DOUBLE_EQ(shares.ruled, 0.5);
+  EXPECT_DOUBLE_EQ(shares.crumpled, 0.25);
+  const VertexShares none = vertex_shares(defects, spreads, std::vector<bool>(5, false));
+  EXPECT_EQ(none.flat + none.ruled + none.crumpled, 0.0);
+}
+
 }  // namespace
 }  // namespace developable

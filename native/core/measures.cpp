@@ -241,23 +241,27 @@ double normal_roughness(const Normals& normals, const Triangles& triangles, cons
   return counted > 0 ? sum / static_cast<double>(counted) : 0.0;
 }
 
-Eigen::VectorXd ruling_spreads(const Normals& normals, const VertexFaces& connectivity,
-                               const std::vector<bool>& interior) {
+Eigen::VectorXd ruling_spreads(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                               const VertexFaces& connectivity, const std::vector<bool>& interior) {
   Eigen::VectorXd spreads = Eigen::VectorXd::Zero(connectivity.vertex_count());
   for (Eigen::Index v = 0; v < connectivity.vertex_count(); ++v) {
-    if (!interior[static_cast<size_t>(v)]) continue;
+    if (!interior[static_cast<size_t>(v)] || connectivity.count(v) < 3) continue;  // two normals share a circle
     Eigen::Matrix3d moments = Eigen::Matrix3d::Zero();
-    int count = 0;
+    double total = 0.0;
     for (const int* f = connectivity.begin(v); f != connectivity.end(v); ++f) {
+      int c = 0;
+      while (triangles(*f, c) != v) ++c;
+      const Eigen::Vector3d p = corner(positions, triangles, *f, c);
+      const Eigen::Vector3d a = corner(positions, triangles, *f, (c + 1) % 3) - p;
+      const Eigen::Vector3d b = corner(positions, triangles, *f, (c + 2) % 3) - p;
+      const double tip = std::atan2(a.cross(b).norm(), a.dot(b));
       const Eigen::Vector3d n = normals.row(*f).transpose();
-      if (n.squaredNorm() == 0.0) continue;
-      moments.noalias() += n * n.transpose();
-      ++count;
+      moments.noalias() += tip * (n * n.transpose());
+      total += tip;
     }
-    if (count < 3) continue;  // two normals always lie on a great circle
     const double smallest =
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(moments, Eigen::EigenvaluesOnly).eigenvalues()[0];
-    spreads[v] = std::asin(std::sqrt(std::clamp(smallest / count, 0.0, 1.0)));
+    spreads[v] = std::asin(std::sqrt(std::clamp(smallest / std::max(total, 1e-300), 0.0, 1.0)));
   }
   return spreads;
 }

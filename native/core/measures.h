@@ -20,8 +20,7 @@ inline constexpr double kFlatDefect = 1e-3;
 // axis, as on a plane, a cylinder, a cone or a tangent developable. A vertex
 // flat but not ruled is crumpled: zero angle defect bought with a zigzag of
 // facets (Stein, Grinspun, Crane 2018 use the same covariance as their
-// energy). 0.02 rad: a noisy cylinder patch of the families (2 % AE noise)
-// made flat keeps 93 % of its vertices under it, a crumpled human figure 51 %.
+// energy). devkit/measures.py's ruled_spread measures the same.
 inline constexpr double kRuledSpread = 0.02;
 
 // Unit normal of each triangle (right-handed in the triangle's vertex order).
@@ -106,16 +105,18 @@ double normal_roughness(const Normals& normals, const Triangles& triangles, cons
 
 // How far the faces around each vertex are from bending about one axis: the
 // root-mean-square sine of their unit normals' angles off the great circle
-// that fits them best, as an angle (rad): asin(sqrt(lambda_min / k)), where
-// lambda_min is the smallest eigenvalue of the sum of n n^T over the k faces
-// of the vertex (each face counts once, whatever its area: a crumpled zigzag
-// is made of small faces). 0 where the normals lie on one great circle
-// (plane, cylinder, cone, any developable's smooth part) and off the
-// interior; zero normals are skipped.
-//   normals: face_normals; connectivity: vertex_faces of the same triangles;
-//   interior: interior_vertices.
-Eigen::VectorXd ruling_spreads(const Normals& normals, const VertexFaces& connectivity,
-                               const std::vector<bool>& interior);
+// that fits them best, as an angle (rad): asin(sqrt(lambda_min / W)), where
+// lambda_min is the smallest eigenvalue of the sum of w n n^T over the faces
+// of the vertex, w each face's angle at the vertex and W their sum (Stein et
+// al.'s weights: a fan of thin triangles weighs what one triangle over the
+// same angle weighs, so the figure does not depend on how the star is cut).
+// 0 where the normals lie on one great circle (plane, cylinder, cone, any
+// developable's smooth part), at vertices of fewer than 3 faces and off the
+// interior.
+//   normals: face_normals of positions; connectivity: vertex_faces of the
+//   same triangles; interior: interior_vertices.
+Eigen::VectorXd ruling_spreads(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                               const VertexFaces& connectivity, const std::vector<bool>& interior);
 
 // The developability a user sees, as shares (0..1) of the interior vertices:
 // flat (|defect| < kFlatDefect), flat and ruled (spread < kRuledSpread too)

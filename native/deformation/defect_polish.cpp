@@ -1,6 +1,7 @@
 #include "deformation/defect_polish.h"
 
 #include "core/measures.h"
+#include "deformation/move_limit.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/IterativeLinearSolvers>
@@ -288,11 +289,7 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
       const int u = free_of[static_cast<size_t>(v)];
       if (u < 0) continue;
       trial.row(v) += length * step.segment<3>(3 * u).transpose();
-      if (options.limit > 0.0) {
-        const Eigen::RowVector3d move = trial.row(v) - reference.row(v);
-        const double distance = move.norm();
-        if (distance > options.limit) trial.row(v) = reference.row(v) + move * (options.limit / distance);
-      }
+      trial.row(v) = within_limit(trial.row(v), reference.row(v), options.limit);
     }
     return trial;
   };

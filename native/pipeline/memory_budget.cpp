@@ -51,12 +51,12 @@ constexpr double kFixedBytes = 32.0 * kMiB;  // thread stacks, tables, allocator
 double estimated_peak_bytes(int64_t vertices, int64_t triangles, const PipelineOptions& options) {
   const double n = static_cast<double>(std::max<int64_t>(vertices, 0));
   const double m = static_cast<double>(std::max<int64_t>(triangles, 0));
-  const bool coupled = options.mode == Mode::paper || options.solver == Formulation::coupled;
+  const bool coupled = formulation_of(options) == Formulation::coupled;
   double per_face = kDecoupledBytesPerFace;
   if (coupled) per_face = kCoupledBytesPerFace * (1.0 + std::max(0.0, std::log2(m / 1e4)) / 8.0);
   const double grid = static_cast<double>(
       options.curve_options.grid_resolution > 0 ? options.curve_options.grid_resolution : automatic_grid_resolution(m));
-  const bool polish = options.polish == 1 || (options.polish == -1 && options.mode == Mode::refit);
+  const bool polish = polish_enabled(options);
   if (polish) per_face += kPolishBytesPerFace;
   const double per_vertex = kBytesPerVertex + (options.mode == Mode::refit ? kAccelerationBytesPerVertex : 0.0);
   const double factor = polish ? std::min(n, kPolishFactorRows) * kPolishFactorBytesPerRow : 0.0;
@@ -91,7 +91,7 @@ void check_memory_budget(int64_t vertices, int64_t triangles, const PipelineOpti
   s << "the mesh is too large for the memory budget: " << vertices << " vertices and " << triangles
     << " triangles need about " << need / kGiB << " GiB, the budget is " << budget / kGiB
     << " GiB (half of the physical memory, or DEVELOPABLE_MEMORY_BUDGET_MB)";
-  const bool coupled = options.mode == Mode::paper || options.solver == Formulation::coupled;
+  const bool coupled = formulation_of(options) == Formulation::coupled;
   if (coupled)
     s << "; the decoupled solver in refit mode needs about ten times less";
   else

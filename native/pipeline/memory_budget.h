@@ -8,7 +8,7 @@
 // system), or DEVELOPABLE_MEMORY_BUDGET_MB when that is set (tests, servers).
 #pragma once
 
-#include "pipeline/pipeline.h"
+#include "pipeline/options.h"
 
 #include <cstdint>
 

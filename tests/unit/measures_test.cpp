@@ -183,12 +183,15 @@ TEST(Measures, RulingSpreadIsZeroWhereTheSurfaceBendsAboutOneAxis) {
   for (const auto& m : {test::plane(), test::cylinder(10, 30)}) {
     const auto table = vertex_faces(m.triangles, m.positions.rows());
     const auto interior = interior_vertices(m.positions, m.triangles);
-    EXPECT_LT(ruling_spreads(face_normals(m.positions, m.triangles), table, interior).maxCoeff(), 1e-6);
+    EXPECT_LT(
+        ruling_spreads(m.positions, m.triangles, face_normals(m.positions, m.triangles), table, interior).maxCoeff(),
+        1e-6);
   }
   const auto cone = test::cone(10, 30);
   const auto table = vertex_faces(cone.triangles, cone.positions.rows());
-  const Eigen::VectorXd spreads = ruling_spreads(face_normals(cone.positions, cone.triangles), table,
-                                                 interior_vertices(cone.positions, cone.triangles));
+  const Eigen::VectorXd spreads =
+      ruling_spreads(cone.positions, cone.triangles, face_normals(cone.positions, cone.triangles), table,
+                     interior_vertices(cone.positions, cone.triangles));
   EXPECT_LT(spreads.maxCoeff(), 0.2 * kRuledSpread);
 
   // The plane's connectivity with its faces' normals tilted by 0.2 rad in
@@ -204,7 +207,7 @@ TEST(Measures, RulingSpreadIsZeroWhereTheSurfaceBendsAboutOneAxis) {
     const double a = direction(random);
     zigzag.row(f) = Eigen::RowVector3d(0.2 * std::cos(a), 0.2 * std::sin(a), 1.0).normalized();
   }
-  const Eigen::VectorXd crumpled = ruling_spreads(zigzag, plane_table, interior);
+  const Eigen::VectorXd crumpled = ruling_spreads(plane.positions, plane.triangles, zigzag, plane_table, interior);
   for (Eigen::Index v = 0; v < crumpled.size(); ++v) {
     if (interior[static_cast<size_t>(v)])
       EXPECT_GT(crumpled[v], kRuledSpread) << "vertex " << v;

@@ -2,6 +2,8 @@
 // every vertex stays within E_allow; refusals of bad options.
 #include "pipeline/pipeline.h"
 
+#include "pipeline/patches.h"
+
 #include "core/measures.h"
 #include "core/mesh_input.h"
 #include "test_meshes.h"

@@ -1,0 +1,130 @@
+"""Which outputs of the engine a change alters: the command-line tool with its defaults on
+the shared meshes, the seeded families (devkit/families.py) and the seeded closed objects
+(devkit/objects.py), each output hashed bit for bit with the figures a user sees.
+
+    /usr/bin/python3 bench/regression.py record OUT.json [--tool build/bin/developable]
+    /usr/bin/python3 bench/regression.py compare BEFORE.json AFTER.json
+
+`record` writes one row per mesh: a hash of the output positions, the result (improved or
+unchanged), which candidate made it, the flat share, the mean and largest |defect|, the
+largest move and the seconds. `compare` lists the meshes whose output changed, with both
+rows' figures side by side, and says whether any figure the user sees got worse. A
+restructuring that should change nothing shows "0 of N outputs changed"."""
+import argparse
+import hashlib
+import json
+import pathlib
+import sys
+import tempfile
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+REPO = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+from devkit import families, objects  # noqa: E402
+from devkit.obj import read_obj  # noqa: E402
+from devkit.paths import MESHES  # noqa: E402
+from devkit.tool import run_tool  # noqa: E402
+
+FAMILY_SEEDS = (100, 101, 102)
+OBJECT_SEEDS = (100, 101, 102)
+# Shared meshes of more than a few seconds (boat, mountain, dress_high) are left to
+# bench/run.py: this harness is run before and after every change of the decisions.
+SHARED = ("bunny", "cube_no_bottom", "fish_low_resolution", "hand_lowres", "human_woman", "penguin",
+          "sphere", "spot_low_resolution", "torus", "wingnut")
+
+
+def cases():
+    """(name, maker) of every mesh, in a fixed order."""
+    out = [("shared/" + name, ("shared", name)) for name in SHARED]
+    for family in families.FAMILIES:
+        for seed in FAMILY_SEEDS:
+            out.append(("family/%s/%d" % (family, seed), ("family", family, seed)))
+    for kind in objects.KINDS:
+        for seed in OBJECT_SEEDS:
+            out.append(("object/%s/%d" % (kind, seed), ("object", kind, seed)))
+    return out
+
+
+def mesh_of(maker):
+    if maker[0] == "shared":
+        return read_obj(MESHES / (maker[1] + ".obj"))
+    if maker[0] == "family":
+        m = families.random_case(maker[1], maker[2])
+        return m.positions, m.triangles
+    m = objects.random_case(maker[1], maker[2])
+    return m.positions, m.triangles
+
+
+def record_one(job):
+    tool, name, maker = job
+    positions, triangles = mesh_of(maker)
+    with tempfile.TemporaryDirectory() as work:
+        run = run_tool(tool, pathlib.Path(work), positions, triangles)
+    if isinstance(run, str):
+        return name, {"error": run}
+    out, stats, seconds = run
+    return name, {"hash": hashlib.sha1(np.ascontiguousarray(out, dtype=np.float64).tobytes()).hexdigest()[:16],
+                  "result": stats.get("result"), "origin": stats.get("result_origin", ""),
+                  "patches": stats.get("patches"), "flat": stats.get("flat_share_after"),
+                  "mean": stats.get("mean_defect_after"), "max": stats.get("max_defect_after"),
+                  "move": stats.get("max_vertex_move"), "ruled": stats.get("ruled_share_after"),
+                  "seconds": round(seconds, 3)}
+
+
+def record(args):
+    jobs = [(args.tool, name, maker) for name, maker in cases()]
+    with ProcessPoolExecutor(args.jobs) as pool:
+        rows = dict(pool.map(record_one, jobs))
+    pathlib.Path(args.out).write_text(json.dumps(rows, indent=1, sort_keys=True))
+    print("%d outputs recorded in %s" % (len(rows), args.out))
+
+
+def worse(a, b):
+    """The figures of row b that a user sees worse than in row a."""
+    out = []
+    if a.get("result") == "improved" and b.get("result") != "improved":
+        out.append("no longer improved")
+    if (b.get("flat") or 0) < (a.get("flat") or 0) - 1e-12:
+        out.append("flat share")
+    if (b.get("mean") or 0) > (a.get("mean") or 0) * (1 + 1e-9):
+        out.append("mean |defect|")
+    return out
+
+
+def compare(args):
+    before = json.loads(pathlib.Path(args.before).read_text())
+    after = json.loads(pathlib.Path(args.after).read_text())
+    changed = [k for k in before if k in after and before[k].get("hash") != after[k].get("hash")]
+    print("%d of %d outputs changed" % (len(changed), len(before)))
+    fmt = "%-34s %-9s %-22s flat %6s -> %6s  mean %9s -> %9s  max %7s -> %7s  %s"
+    for k in changed:
+        a, b = before[k], after[k]
+        if "error" in a or "error" in b:
+            print("%-34s %s -> %s" % (k, a.get("error", "ok"), b.get("error", "ok")))
+            continue
+        pct = lambda x: "%.1f%%" % (100 * x) if x is not None else "-"  # noqa: E731
+        num = lambda x: "%.3g" % x if x is not None else "-"  # noqa: E731
+        print(fmt % (k, b["result"], b.get("origin", ""), pct(a["flat"]), pct(b["flat"]), num(a["mean"]),
+                     num(b["mean"]), num(a["max"]), num(b["max"]), ", ".join(worse(a, b)) or "no figure worse"))
+    for k in sorted(set(before) ^ set(after)):
+        print("%-34s only in %s" % (k, "before" if k in before else "after"))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True)
+    rec = sub.add_parser("record")
+    rec.add_argument("out")
+    rec.add_argument("--tool", default=str(REPO / "build" / "bin" / "developable"))
+    rec.add_argument("--jobs", type=int, default=2)
+    cmp_ = sub.add_parser("compare")
+    cmp_.add_argument("before")
+    cmp_.add_argument("after")
+    args = parser.parse_args()
+    record(args) if args.command == "record" else compare(args)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,83 @@
+// Measures candidate meshes and holds them to the admissibility rule
+// (selection.h), keeping the reasons of those it turns away for the
+// message of a run that returns its input.
+#pragma once
+
+#include "core/measures.h"
+#include "core/types.h"
+#include "pipeline/selection.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace developable {
+
+// How good an iterate is, lower is better (rad). On one patch: the paper's
+// mean |defect| over the scored vertices. On a segmented mesh (`median`): the
+// median |defect| over the vertices inside the patches. The curvature of a
+// closed surface cannot go (Gauss-Bonnet fixes its total), only gather on the
+// seams, so there the mean hardly moves while the share of flat vertices
+// grows; the median follows that share (below 1e-3 rad once half the
+// vertices are flat) and, unlike the share, also rewards progress above the
+// threshold. 0 when no vertex is scored.
+class IterateScore {
+ public:
+  IterateScore(std::vector<bool> scored, bool median);
+
+  // The vertices the score reads.
+  const std::vector<bool>& scored() const { return scored_; }
+  double operator()(const Eigen::VectorXd& defects) const;
+
+ private:
+  std::vector<bool> scored_;
+  bool median_;
+  size_t count_ = 0;
+  mutable std::vector<double> values_;  // scratch, reused across iterations
+};
+
+// Share of the interior vertices whose |defect| is under kFlatDefect, 0..1.
+double flat_share(const Eigen::VectorXd& defects, const std::vector<bool>& interior);
+
+// How far `positions` moved from `input`: RMS and largest over the vertices.
+Motion motion_of(const Positions& positions, const Positions& input);
+
+// A candidate's angle defects (per vertex, rad, 0 off the interior) and figures.
+struct Measured {
+  Eigen::VectorXd defects;
+  Figures figures;
+};
+
+class Judge {
+ public:
+  // input: the input's defects and figures (score by `score`); closed: the
+  // mesh has no boundary (admit). The references must outlive this.
+  Judge(const Triangles& triangles, const std::vector<bool>& interior, const Normals& input_normals, IterateScore score,
+        Measured input, bool closed);
+
+  // The defects and figures of `positions` (face normals `normals`).
+  Measured measure(const Positions& positions, const Normals& normals) const;
+
+  // Whether a measured candidate may be returned (admit); the reasons of one
+  // that scored better than the input but may not are kept.
+  bool admissible(const Measured& candidate);
+
+  // A candidate that creased the surface inside a patch where no crease
+  // guard held it (the polish of a segmented input) and is not kept.
+  void reject_creased() { ++rejected_.creased; }
+
+  const Measured& input() const { return input_; }
+  const IterateScore& score() const { return score_; }
+  const Rejections& rejected() const { return rejected_; }
+
+ private:
+  const Triangles& triangles_;
+  const std::vector<bool>& interior_;
+  const Normals& input_normals_;
+  IterateScore score_;
+  Measured input_;
+  bool closed_;
+  Rejections rejected_;
+};
+
+}  // namespace developable

@@ -1,0 +1,34 @@
+// Least motion's candidates (docs/method.md, "Least motion"): the polish of
+// the input itself; of the input with its noise smoothed (jet_denoise.h);
+// of that after one deformation step toward targets refit on it; and on one
+// patch the input projected onto developable meshes from its smoothing
+// without the feature guard. Where the fitted curves flatten a wavy shape,
+// the deformation moves it far more than the noise, a polish of the input
+// only about the noise: of the results as developable as the run's choice
+// (as_developable) the one that moved the input least is returned, if its
+// normals are smooth enough (smooth_enough).
+#pragma once
+
+#include "pipeline/deformation_run.h"
+#include "pipeline/judge.h"
+#include "pipeline/polish_run.h"
+#include "pipeline/run_context.h"
+
+#include <functional>
+
+namespace developable {
+
+// Runs the candidates against the run's choice and keeps the winners.
+//   polish_choice: the choice's own polish (polish_choice), run here beside
+//   the polish of the input, which does not depend on it;
+//   deformation: the run's, for the smoothed start's step; deformed: whether
+//   the deformation improved the input (else only the polish of the input
+//   and the projected start compete).
+// Each polish is the same whatever thread runs it, and each is judged, in
+// the order above, once it has run, so the result does not depend on the
+// thread count.
+void compete_least_motion(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
+                          const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
+                          const Progress& progress);
+
+}  // namespace developable

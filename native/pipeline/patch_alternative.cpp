@@ -1,0 +1,132 @@
+#include "pipeline/patch_alternative.h"
+
+#include "pipeline/deformation_run.h"
+#include "pipeline/judge.h"
+#include "pipeline/least_motion.h"
+#include "pipeline/messages.h"
+#include "pipeline/polish_run.h"
+#include "pipeline/selection.h"
+#include "pipeline/target_field.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace developable {
+namespace {
+
+// The judge of a run: the input's figures, scored on the run's vertices (the
+// median inside the patches on pieces, the mean elsewhere).
+Judge judge_of(const PatchRun& run) {
+  const MeasuredInput& input = run.input;
+  const IterateScore score(run.scored, run.piecewise);
+  Measured measured;
+  measured.defects = input.measured.defect_before;
+  measured.figures.flat = input.measured.stats.flat_share_before;
+  measured.figures.mean = input.before.mean_abs;
+  measured.figures.max = input.before.max_abs;
+  measured.figures.score = score(measured.defects);
+  return Judge(input.triangles, input.measured.interior, input.normals, score, std::move(measured), input.closed);
+}
+
+// A mesh made of planes, cylinders and cones, its curvature on the seams
+// between them (a gear, a box, a torus of aligned rings), is as developable as
+// its pieces get: the generic advice (a larger tolerance) would send the user
+// looking for what is not there. Every patch must also fit its cone as it
+// stands, not only be flat inside: a patch of a smooth surface too narrow to
+// have more than a few inside vertices can be flat there by chance.
+bool developable_as_split(const PatchRun& run) {
+  const MeasuredInput& input = run.input;
+  for (Eigen::Index v = 0; v < input.positions.rows(); ++v)
+    if (run.scored[static_cast<size_t>(v)] && !(std::abs(input.measured.defect_before[v]) < kFlatDefect)) return false;
+  return patches_fit_cones(run.patch_ids, run.patch_count, input.normals, input.areas);
+}
+
+// The result `choice` (or the input, for `reason`) and its stats.
+void finish(const PatchRun& run, const Choice& choice, UnchangedReason reason, const Rejections& rejected,
+            PipelineResult& result, const Progress& progress) {
+  const MeasuredInput& input = run.input;
+  PipelineStats& stats = result.stats;
+  const bool improved = choice.improved;
+  result.positions = choice.positions;
+  result.defect_after = choice.measured.defects;
+  stats.mean_defect_after = choice.measured.figures.mean;
+  stats.max_defect_after = choice.measured.figures.max;
+  stats.flat_share_after = choice.measured.figures.flat;
+  stats.polish_iterations = choice.polish_iterations;
+  stats.origin = choice.origin;
+  stats.result = improved ? ResultKind::improved : ResultKind::unchanged;
+  stats.unchanged_reason = improved ? UnchangedReason::none : reason;
+  // Pinned vertices keep the caller's exact bits whatever the solvers did.
+  for (Eigen::Index v = 0; v < input.positions.rows(); ++v)
+    if (run.pinned[static_cast<size_t>(v)]) result.positions.row(v) = input.positions.row(v);
+  stats.max_vertex_move = improved ? motion_of(result.positions, input.positions).largest : 0.0;
+  const Normals result_normals = face_normals(result.positions, input.triangles);
+  stats.faces_turned_over = static_cast<Eigen::Index>(turned_over_faces(result_normals, input.normals).size());
+  stats.shares_after = improved ? vertex_shares(result.defect_after,
+                                                ruling_spreads(result.positions, input.triangles, result_normals,
+                                                               input.connectivity, result.interior),
+                                                result.interior)
+                                : stats.shares_before;
+  stats.worse_figures = improved ? worse_figures(stats) : 0;
+  stats.change_percent = stats.mean_defect_before > 0.0
+                             ? 100.0 * (stats.mean_defect_after - stats.mean_defect_before) / stats.mean_defect_before
+                             : 0.0;
+  stats.result_message = result_message(stats, rejected);
+  stats.time_total_ms = elapsed_ms(input.start_time);
+  progress.report(1.0, "done");
+}
+
+}  // namespace
+
+PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches, const Progress& progress) {
+  const PatchRun run = patch_run(input, patches);
+  PipelineResult result = input.measured;
+  PipelineStats& stats = result.stats;
+  stats.patches = patches.count;
+  result.patch_ids = patches.ids;
+  const bool developable = patches.developable;
+  TargetField targets(std::move(patches), input.positions, input.triangles, input.areas, input.connectivity,
+                      input.options, run.piecewise);
+  result.curves = targets.curves();
+  result.target_normals = targets.targets();
+  Judge judge = judge_of(run);
+  Choice choice = Choice::input(input, judge.input());
+  if (input.before.mean_abs <= input.options.developable_threshold || developable) {
+    stats.stop_reason = StopReason::already_developable;
+    finish(run, choice, developable ? UnchangedReason::developable_piecewise : UnchangedReason::already_developable,
+           Rejections{}, result, progress);
+    return result;
+  }
+
+  DeformationRun deformation(run, std::move(targets), stats, progress);
+  deformation.iterate(judge, choice, progress);
+  if (polish_enabled(input.options)) {
+    const auto polish_start = Clock::now();
+    const bool deformed = choice.improved;
+    const PolishPlan plan = polish_plan(run, deformed);
+    const auto polish = [&](const Progress& share) { polish_choice(run, plan, judge, choice, share); };
+    if (plan.least_motion)
+      compete_least_motion(run, plan, deformation, deformed, polish, judge, choice, progress.sub(0.95, 1.0));
+    else
+      polish(progress.sub(0.95, 1.0));
+    stats.time_polish_ms = elapsed_ms(polish_start);
+  }
+  result.curves = deformation.chosen_curves();
+  result.target_normals = deformation.chosen_targets();
+
+  // The score may fall where no figure the user sees moves: on a segmented
+  // mesh it is the median inside the patches, which the apex of a capped
+  // cone or a cylinder's rims can lower by moving 1 % of the size while no
+  // vertex becomes flat and the mean |defect| stays (Gauss-Bonnet). Such a
+  // result moved the mesh for nothing: the input is returned instead.
+  Rejections rejected = judge.rejected();
+  if (choice.improved && !visible_gain(choice.measured.figures, judge.input().figures)) {
+    rejected.no_visible_gain = true;
+    choice = Choice::input(input, judge.input());
+  }
+  if (!choice.improved && run.piecewise) rejected.developable_patches = developable_as_split(run);
+  finish(run, choice, unchanged_reason(rejected, stats.flat_share_before), rejected, result, progress);
+  return result;
+}
+
+}  // namespace developable

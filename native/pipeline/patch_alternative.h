@@ -1,0 +1,23 @@
+// One patch alternative of a run, from its candidates to its result: the
+// deformation (paper, stages 6-7) and its polish (stage 8), least motion's
+// candidates, each held to the admissibility rule; the choice they leave, or
+// the input when none was admissible and better (with the reason).
+#pragma once
+
+#include "core/types.h"
+#include "pipeline/patches.h"
+#include "pipeline/run_context.h"
+#include "pipeline/run_result.h"
+
+namespace developable {
+
+// The result of `input` on `patches`: its mesh, figures, curves and stats.
+// Patches marked developable (developable_pieces.h) and an input under
+// options.developable_threshold come back unchanged at once. A result that
+// shows no gain a user sees (visible_gain) is dropped for the input; an
+// unchanged segmented input whose patches are each flat inside and fit their
+// cones is "developable piecewise". Throws what the stages throw
+// (cancelled, numerical_failure).
+PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches, const Progress& progress);
+
+}  // namespace developable

@@ -1,0 +1,49 @@
+// Stage 8 on a run's choice: the angle defects driven to zero from the best
+// iterate (or from the input when the deformation found nothing better),
+// then the nearly flat vertices polished on their own while that gains flat
+// vertices; and the options least motion's candidates are polished with.
+#pragma once
+
+#include "core/measures.h"
+#include "deformation/defect_polish.h"
+#include "pipeline/judge.h"
+#include "pipeline/run_context.h"
+
+namespace developable {
+
+// Meshes of up to this many scored vertices (about 50k faces) have least
+// motion's candidates, and their polishes work on vertices down to
+// kPolishActiveShare of the input's mean |defect| (polish_plan). Above,
+// their polishes would cost more than the rest of the run (a 100k-face noisy
+// cylinder: 1.6 s in all). Below it they are what keeps the shape: on 10k
+// to 50k faces without them held-out family runs on grids ended up to 41
+// times the noise from their twins (random-curve tangent developables), with
+// them at most 1.46 (docs/families.md, "Larger meshes").
+inline constexpr std::ptrdiff_t kLeastMoveVertices = 25000;
+
+// The run's polishes, decided once the deformation has run.
+struct PolishPlan {
+  PolishOptions result;      // the choice's polish and its nearly flat rounds
+  PolishOptions candidates;  // least motion's polishes of the input and its smoothings
+  // Whether least motion's candidates compete: one patch, or pieces whose
+  // deformation improved the input, up to kLeastMoveVertices scored vertices.
+  bool least_motion = false;
+  // The crease check of a closed segmented input's polish, which no crease
+  // guard holds (inactive elsewhere).
+  CreaseGuard unguarded_check;
+};
+
+// The polishes of `run` after a deformation that `deformed` (improved) the
+// input or not.
+PolishPlan polish_plan(const PatchRun& run, bool deformed);
+
+// Polishes the choice (polish_defects from its positions, within the move
+// limit of the input) and keeps the result when admissible and better
+// scoring (ResultOrigin::deformation_polish, or input_polish when the choice
+// was the input). Then, on an improved choice, the vertices under
+// kNearFlatDefect are polished on their own, round after round, each round
+// kept while it gains flat vertices and stays as developable as the choice
+// before the first (ResultOrigin::near_flat_polish).
+void polish_choice(const PatchRun& run, const PolishPlan& plan, Judge& judge, Choice& choice, const Progress& progress);
+
+}  // namespace developable

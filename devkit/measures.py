@@ -3,6 +3,7 @@ for any other tool's output (bench/run.py --compare), in tests and bench."""
 import numpy as np
 
 FLAT = 1e-3  # rad: an interior vertex with |defect| below this counts as developable
+RULED = 0.02  # rad: a vertex whose ruled_spread is below this counts as ruled
 
 
 def boundary_vertices(n, triangles):
@@ -97,3 +98,96 @@ def sharpened_edges(before, after, triangles, patch_ids=None, growth_degrees=20.
         return np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", n[pairs[:, 0]], n[pairs[:, 1]]), -1.0, 1.0)))
 
     return pairs[angles(after) - angles(before) > growth_degrees]
+
+
+def tip_angles(positions, triangles):
+    """(m, 3): the angle (rad) of every triangle at each of its corners."""
+    tri = positions[triangles]
+    out = np.empty(triangles.shape)
+    for k in range(3):
+        u, v = tri[:, (k + 1) % 3] - tri[:, k], tri[:, (k + 2) % 3] - tri[:, k]
+        out[:, k] = np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ij,ij->i", u, v))
+    return out
+
+
+def ruled_spread(positions, triangles):
+    """Per vertex: how far (rad) the unit normals of the faces around it spread off their
+    best-fitting great circle. A developable surface is flat (zero angle defect) and ruled: a
+    straight line runs through every point, the normals along it are parallel, so the normals
+    around a vertex lie on one great circle (one arc: a cylinder's, a cone's; two points: a
+    fold). A mesh can have zero angle defects and still be crumpled (a Miura-ori, scan noise
+    polished flat vertex by vertex); this measure sees that. It is the covariance measure of
+    Stein, Grinspun, Crane, "Developability of triangle meshes" (2018): with
+    M = sum over the faces f around the vertex of w_f n_f n_f^T, its smallest eigenvalue
+    lambda_min is the weighted sum of the squared sines of the normals' angles off the great
+    circle orthogonal to its eigenvector (the circle that makes that sum least); the spread is
+    arcsin(sqrt(lambda_min / sum of w_f)), a root mean square of those angles.
+
+    Weights: the faces' angles at the vertex (tip angles), as Stein et al. weigh them, rather
+    than areas or nothing: the weights then cover the vertex's surroundings the same way
+    however its star is cut (a fan of thin triangles weighs what one triangle over the same
+    angle weighs), so the figure does not depend on the triangulation, and a long sliver
+    reaching far from the vertex does not outweigh its neighbours.
+
+    Vertices with fewer than 3 faces: 0 (one or two normals always lie on a great circle).
+    Boundary vertices: NaN, never counted as ruled: their faces cover only part of a disc
+    around them, and the fit would grade a rim by half a star.
+    Vectorised: bincount per entry of M, one batched eigvalsh."""
+    positions = np.asarray(positions, dtype=np.float64)
+    n = len(positions)
+    normals = np.repeat(face_normals(positions, triangles), 3, axis=0)   # per corner
+    corner = np.asarray(triangles).ravel()
+    weight = tip_angles(positions, triangles).ravel()
+    m = np.empty((n, 3, 3))
+    for i in range(3):
+        for j in range(i, 3):
+            m[:, i, j] = m[:, j, i] = np.bincount(corner, weight * normals[:, i] * normals[:, j], minlength=n)
+    total = np.bincount(corner, weight, minlength=n)
+    smallest = np.linalg.eigvalsh(m)[:, 0]
+    spread = np.arcsin(np.sqrt(np.clip(smallest / np.maximum(total, 1e-300), 0.0, 1.0)))
+    spread[np.bincount(corner, minlength=n) < 3] = 0.0
+    spread[boundary_vertices(n, np.asarray(triangles))] = np.nan
+    return spread
+
+
+def developability_figures(positions, triangles, interior=None, flat=FLAT, ruled=RULED):
+    """Shares (0..1) of the counted vertices that are flat (|angle defect| < flat rad),
+    ruled (ruled_spread < ruled rad), flat and ruled (developable in the sense of Stein et
+    al.), and crumpled (flat but not ruled), with their count. interior: a mask of the
+    vertices to count (e.g. those off the seams of a piecewise developable part); only its
+    interior vertices are counted; default every interior vertex. Shares are NaN when no
+    vertex is counted."""
+    defects, inner = angle_defects(np.asarray(positions, dtype=np.float64), np.asarray(triangles))
+    counted = inner if interior is None else inner & np.asarray(interior, dtype=bool)
+    is_flat = np.abs(defects[counted]) < flat
+    with np.errstate(invalid="ignore"):   # NaN (boundary) spreads are not ruled
+        is_ruled = ruled_spread(positions, triangles)[counted] < ruled
+    count = int(counted.sum())
+
+    def share(mask):
+        return float(mask.mean()) if count else float("nan")
+
+    return {"vertices": count, "flat": share(is_flat), "ruled": share(is_ruled),
+            "flat_and_ruled": share(is_flat & is_ruled), "crumpled": share(is_flat & ~is_ruled)}
+
+
+def dihedral_angles(positions, triangles, edges):
+    """Per edge (vertex pair, (e, 2)) shared by two faces: the angle (rad) between their unit
+    normals, 0 where they lie flat, pi / 2 at a right-angled crease. ValueError for an edge
+    that is not between two faces."""
+    triangles, edges = np.asarray(triangles), np.asarray(edges)
+    n = len(positions)
+    sides = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    keys = sides[:, 0].astype(np.int64) * n + sides[:, 1]
+    order = np.argsort(keys, kind="stable")
+    keys = keys[order]
+    face = np.tile(np.arange(len(triangles)), 3)[order]
+    wanted = np.sort(edges, axis=1)
+    query = wanted[:, 0].astype(np.int64) * n + wanted[:, 1]
+    first = np.searchsorted(keys, query)
+    second = np.minimum(first + 1, len(keys) - 1)
+    if len(query) and not (np.all(keys[np.minimum(first, len(keys) - 1)] == query) and np.all(keys[second] == query)):
+        raise ValueError("dihedral_angles: an edge is not shared by two faces")
+    normals = face_normals(np.asarray(positions, dtype=np.float64), triangles)
+    cosine = np.einsum("ij,ij->i", normals[face[first]], normals[face[second]])
+    return np.arccos(np.clip(cosine, -1.0, 1.0))

@@ -67,8 +67,7 @@ def run(tool, mesh):
 def measure_assembly(job):
     tool, part, seed = job
     m = assemblies.random_case(part, seed)
-    row = {"part": part, "seed": seed, "triangulation": m.triangulation, "faces": len(m.triangles),
-           "noise": m.noise}
+    row = {"part": part, "seed": seed, "triangulation": m.triangulation, "faces": len(m.triangles), "noise": m.noise}
     result = run(tool, m)
     if isinstance(result, str):
         return dict(row, error=result)
@@ -79,20 +78,34 @@ def measure_assembly(job):
     crease = None
     if len(m.creases):
         twin = dihedral_angles(m.clean, m.triangles, m.creases).mean()
-        crease = (dihedral_angles(out, m.triangles, m.creases).mean() / twin,
-                  dihedral_angles(m.positions, m.triangles, m.creases).mean() / twin)
+        crease = (
+            dihedral_angles(out, m.triangles, m.creases).mean() / twin,
+            dihedral_angles(m.positions, m.triangles, m.creases).mean() / twin,
+        )
     h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
-    return dict(row, natural=m.natural_pieces, pieces=stats["patches"], result=stats["result"],
-                H=sampled_hausdorff(out, m.triangles, m.clean, m.triangles) / h0,
-                flat=(before["flat"], after["flat"]), ruled=(before["flat_and_ruled"], after["flat_and_ruled"]),
-                crease=crease, seconds=seconds)
+    return dict(
+        row,
+        natural=m.natural_pieces,
+        pieces=stats["patches"],
+        result=stats["result"],
+        H=sampled_hausdorff(out, m.triangles, m.clean, m.triangles) / h0,
+        flat=(before["flat"], after["flat"]),
+        ruled=(before["flat_and_ruled"], after["flat_and_ruled"]),
+        crease=crease,
+        seconds=seconds,
+    )
 
 
 def measure_scan(job):
     tool, family, seed = job
     m = assemblies.random_scan_sheet(family, seed)
-    row = {"family": family, "seed": seed, "triangulation": m.triangulation, "faces": len(m.triangles),
-           "noise": m.noise}
+    row = {
+        "family": family,
+        "seed": seed,
+        "triangulation": m.triangulation,
+        "faces": len(m.triangles),
+        "noise": m.noise,
+    }
     result = run(tool, m)
     if isinstance(result, str):
         return dict(row, error=result)
@@ -102,11 +115,20 @@ def measure_scan(job):
     def rms(p):
         return np.sqrt(np.mean(np.sum((p - m.clean) ** 2, axis=1)))
 
-    return dict(row, result=stats["result"], flat=after["flat"], ruled=after["flat_and_ruled"],
-                crumpled=after["crumpled"], rms=rms(out) / rms(m.positions),
-                H=(sampled_hausdorff(out, m.triangles, m.clean, m.triangles)
-                   / sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)),
-                flat_before=developability_figures(m.positions, m.triangles)["flat"], seconds=seconds)
+    return dict(
+        row,
+        result=stats["result"],
+        flat=after["flat"],
+        ruled=after["flat_and_ruled"],
+        crumpled=after["crumpled"],
+        rms=rms(out) / rms(m.positions),
+        H=(
+            sampled_hausdorff(out, m.triangles, m.clean, m.triangles)
+            / sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
+        ),
+        flat_before=developability_figures(m.positions, m.triangles)["flat"],
+        seconds=seconds,
+    )
 
 
 def percent(x):
@@ -116,28 +138,51 @@ def percent(x):
 def part_table(part, runs):
     good = [r for r in runs if "error" not in r]
     natural = assemblies.NATURAL_PIECES[part]
-    lines = ["**%s** (natural pieces: %d; exact: %d of %d runs)" % (
-        part, natural, sum(r["pieces"] == natural for r in good), len(runs)), "",
+    lines = [
+        "**%s** (natural pieces: %d; exact: %d of %d runs)"
+        % (part, natural, sum(r["pieces"] == natural for r in good), len(runs)),
+        "",
         "| seed | triangulation | faces | noise % AE | pieces | H/H0 | flat before → after "
         "| flat & ruled before → after | crease kept (input) | seconds | result |",
-        "|---|---|---|---|---|---|---|---|---|---|---|"]
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
     for r in runs:
         if "error" in r:
-            lines.append("| %d | %s | %d | %.1f | error: %s |" % (r["seed"], r["triangulation"], r["faces"],
-                                                                   100 * r["noise"], r["error"]))
+            lines.append(
+                "| %d | %s | %d | %.1f | error: %s |"
+                % (r["seed"], r["triangulation"], r["faces"], 100 * r["noise"], r["error"])
+            )
             continue
         crease = "–" if r["crease"] is None else "%.2f (%.2f)" % r["crease"]
-        lines.append("| %d | %s | %d | %.1f | %d | %.2f | %s → %s | %s → %s | %s | %.1f | %s |" % (
-            r["seed"], r["triangulation"], r["faces"], 100 * r["noise"], r["pieces"], r["H"],
-            percent(r["flat"][0]), percent(r["flat"][1]), percent(r["ruled"][0]), percent(r["ruled"][1]),
-            crease, r["seconds"], r["result"]))
+        lines.append(
+            "| %d | %s | %d | %.1f | %d | %.2f | %s → %s | %s → %s | %s | %.1f | %s |"
+            % (
+                r["seed"],
+                r["triangulation"],
+                r["faces"],
+                100 * r["noise"],
+                r["pieces"],
+                r["H"],
+                percent(r["flat"][0]),
+                percent(r["flat"][1]),
+                percent(r["ruled"][0]),
+                percent(r["ruled"][1]),
+                crease,
+                r["seconds"],
+                r["result"],
+            )
+        )
     return "\n".join(lines) + "\n"
 
 
 def summary_table(results, parts):
-    lines = ["**All parts** (median over the seeds, worst in brackets)", "",
-             "| part | natural pieces | pieces returned | exact | H/H0 | flat after | flat & ruled after "
-             "| crease kept | seconds |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "**All parts** (median over the seeds, worst in brackets)",
+        "",
+        "| part | natural pieces | pieces returned | exact | H/H0 | flat after | flat & ruled after "
+        "| crease kept | seconds |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
     for part in parts:
         good = [r for r in results if r["part"] == part and "error" not in r]
         if not good:
@@ -146,20 +191,36 @@ def summary_table(results, parts):
         h = [r["H"] for r in good]
         flat, ruled = [r["flat"][1] for r in good], [r["ruled"][1] for r in good]
         crease = [r["crease"][0] for r in good if r["crease"] is not None]
-        lines.append("| %s | %d | %s | %d/%d | %.2f (%.2f) | %s (%s) | %s (%s) | %s | %.1f (%.1f) |" % (
-            part, assemblies.NATURAL_PIECES[part], ", ".join(str(r["pieces"]) for r in good),
-            sum(r["pieces"] == r["natural"] for r in good), sum(r["part"] == part for r in results),
-            np.median(h), max(h), percent(np.median(flat)), percent(min(flat)),
-            percent(np.median(ruled)), percent(min(ruled)),
-            "%.2f (%.2f)" % (np.median(crease), min(crease)) if crease else "–",
-            np.median([r["seconds"] for r in good]), max(r["seconds"] for r in good)))
+        lines.append(
+            "| %s | %d | %s | %d/%d | %.2f (%.2f) | %s (%s) | %s (%s) | %s | %.1f (%.1f) |"
+            % (
+                part,
+                assemblies.NATURAL_PIECES[part],
+                ", ".join(str(r["pieces"]) for r in good),
+                sum(r["pieces"] == r["natural"] for r in good),
+                sum(r["part"] == part for r in results),
+                np.median(h),
+                max(h),
+                percent(np.median(flat)),
+                percent(min(flat)),
+                percent(np.median(ruled)),
+                percent(min(ruled)),
+                "%.2f (%.2f)" % (np.median(crease), min(crease)) if crease else "–",
+                np.median([r["seconds"] for r in good]),
+                max(r["seconds"] for r in good),
+            )
+        )
     return "\n".join(lines) + "\n"
 
 
 def scan_table(results, names):
-    lines = ["**Sheets with scan noise 10-50 % AE** (median over the seeds, worst in brackets)", "",
-             "| family | triangulations | noise % AE | flat before | flat after | flat & ruled after "
-             "| crumpled after | rms/rms0 | H/H0 | seconds | unchanged |", "|---" * 11 + "|"]
+    lines = [
+        "**Sheets with scan noise 10-50 % AE** (median over the seeds, worst in brackets)",
+        "",
+        "| family | triangulations | noise % AE | flat before | flat after | flat & ruled after "
+        "| crumpled after | rms/rms0 | H/H0 | seconds | unchanged |",
+        "|---" * 11 + "|",
+    ]
     for family in names:
         runs = [r for r in results if r["family"] == family]
         good = [r for r in runs if "error" not in r]
@@ -171,14 +232,24 @@ def scan_table(results, names):
             values = [r[key] for r in good]
             return "%s (%s)" % (fmt(np.median(values)), fmt(worst(values)))
 
-        lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %.1f (%.1f) | %d/%d |" % (
-            family, ", ".join(sorted({r["triangulation"] for r in good})),
-            "-".join("%.0f" % (100 * f(r["noise"] for r in good)) for f in (min, max)),
-            percent(np.median([r["flat_before"] for r in good])),
-            col("flat", min, percent), col("ruled", min, percent), col("crumpled", max, percent),
-            col("rms", max, lambda x: "%.2f" % x), col("H", max, lambda x: "%.2f" % x),
-            np.median([r["seconds"] for r in good]), max(r["seconds"] for r in good),
-            sum(r["result"] == "unchanged" for r in good), len(runs)))
+        lines.append(
+            "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %.1f (%.1f) | %d/%d |"
+            % (
+                family,
+                ", ".join(sorted({r["triangulation"] for r in good})),
+                "-".join("%.0f" % (100 * f(r["noise"] for r in good)) for f in (min, max)),
+                percent(np.median([r["flat_before"] for r in good])),
+                col("flat", min, percent),
+                col("ruled", min, percent),
+                col("crumpled", max, percent),
+                col("rms", max, lambda x: "%.2f" % x),
+                col("H", max, lambda x: "%.2f" % x),
+                np.median([r["seconds"] for r in good]),
+                max(r["seconds"] for r in good),
+                sum(r["result"] == "unchanged" for r in good),
+                len(runs),
+            )
+        )
     errors = [r for r in results if "error" in r]
     if errors:
         lines += ["", "Errors: " + "; ".join("%s %d: %s" % (r["family"], r["seed"], r["error"]) for r in errors)]

@@ -75,11 +75,19 @@ from . import families
 
 PARTS = ("transition", "reducer", "elbow4", "elbow6", "tee", "ybranch", "cup", "holed_sheet")
 TRIANGULATIONS = families.TRIANGULATIONS
-NATURAL_PIECES = {"transition": 8, "reducer": 3, "elbow4": 4, "elbow6": 6, "tee": 2, "ybranch": 3,
-                  "cup": 2, "holed_sheet": 1}
-MIN_FACES = 500          # below this the holes and seams would be a few edges long
-JITTER = 0.35            # of the spacing: how far irregular columns and points move
-SLIVER_ASPECT = 6.0      # cell length over width in the slivers triangulation
+NATURAL_PIECES = {
+    "transition": 8,
+    "reducer": 3,
+    "elbow4": 4,
+    "elbow6": 6,
+    "tee": 2,
+    "ybranch": 3,
+    "cup": 2,
+    "holed_sheet": 1,
+}
+MIN_FACES = 500  # below this the holes and seams would be a few edges long
+JITTER = 0.35  # of the spacing: how far irregular columns and points move
+SLIVER_ASPECT = 6.0  # cell length over width in the slivers triangulation
 UP = np.array([0.0, 0.0, 1.0])
 
 
@@ -88,13 +96,13 @@ class AssemblyMesh:
     part: str
     triangulation: str
     seed: int
-    noise: float               # amplitude in AE
-    positions: np.ndarray      # noisy (n, 3)
-    clean: np.ndarray          # noise-free twin (n, 3)
-    triangles: np.ndarray      # (m, 3) int32
-    pieces: np.ndarray         # (m,) int32, 0 .. natural_pieces - 1
+    noise: float  # amplitude in AE
+    positions: np.ndarray  # noisy (n, 3)
+    clean: np.ndarray  # noise-free twin (n, 3)
+    triangles: np.ndarray  # (m, 3) int32
+    pieces: np.ndarray  # (m,) int32, 0 .. natural_pieces - 1
     natural_pieces: int
-    creases: np.ndarray        # (e, 2) int32 vertex pairs of the seam edges
+    creases: np.ndarray  # (e, 2) int32 vertex pairs of the seam edges
     info: dict = field(default_factory=dict)
 
 
@@ -110,11 +118,13 @@ def _random_rotation(rng):
 
 # -- meshing between rulings ---------------------------------------------------------------
 
+
 @dataclass
 class _Column:
     """The vertices along one ruling: their indices, parameters (increasing) and positions;
     cuts: hole -> (position of the vertex below it, of the vertex above it) in idx, the same
     position twice where the ruling only touches the hole."""
+
     idx: np.ndarray
     t: np.ndarray
     pts: np.ndarray
@@ -128,10 +138,10 @@ class _Assembly:
     def __init__(self, triangulation, h, rng):
         self.style, self.rng = triangulation, rng
         stretch = np.sqrt(SLIVER_ASPECT) if triangulation == "slivers" else 1.0
-        self.across, self.along = h / stretch, h * stretch   # column spacing, row spacing
+        self.across, self.along = h / stretch, h * stretch  # column spacing, row spacing
         self._points, self._count = [], 0
         self._faces, self._labels = [], []
-        self.info = {}   # what the part reports about its mesh (the holes that fit)
+        self.info = {}  # what the part reports about its mesh (the holes that fit)
 
     @property
     def irregular(self):
@@ -194,8 +204,7 @@ class _Assembly:
             idx += list(self.add(inner))
             ts += list(levels)
             pts += list(inner)
-        return _Column(np.array(idx), np.array(ts), np.array(pts),
-                       {hole: (where[q], where[r]) for hole, q, r in holes})
+        return _Column(np.array(idx), np.array(ts), np.array(pts), {hole: (where[q], where[r]) for hole, q, r in holes})
 
     def line(self, start, start_point, end, end_point, grid, step=None, fixed=False):
         """A column from vertex `start` to vertex `end` (ruling() with two anchors)."""
@@ -206,14 +215,20 @@ class _Assembly:
         """A closed column around a centre: sorted by angle, its first vertex repeated at the end."""
         a = np.mod(angles, 2 * np.pi)
         order = np.argsort(a)
-        return _Column(np.r_[vertices[order], vertices[order[0]]], np.r_[a[order], a[order[0]] + 2 * np.pi],
-                       np.vstack([points[order], points[order[:1]]]))
+        return _Column(
+            np.r_[vertices[order], vertices[order[0]]],
+            np.r_[a[order], a[order[0]] + 2 * np.pi],
+            np.vstack([points[order], points[order[:1]]]),
+        )
 
     def strip(self, a, b, piece, parity=0):
         """The triangles between neighbouring columns a and b of `piece`, cut where a hole lies
         between them. parity: the column's place, for the alternating diagonals."""
-        holes = sorted((a.cuts[h][0], h) for h in a.cuts if h in b.cuts
-                       and not (a.cuts[h][0] == a.cuts[h][1] and b.cuts[h][0] == b.cuts[h][1]))
+        holes = sorted(
+            (a.cuts[h][0], h)
+            for h in a.cuts
+            if h in b.cuts and not (a.cuts[h][0] == a.cuts[h][1] and b.cuts[h][0] == b.cuts[h][1])
+        )
         i = j = 0
         for _, h in holes:
             (a_low, a_high), (b_low, b_high) = a.cuts[h], b.cuts[h]
@@ -229,7 +244,7 @@ class _Assembly:
             if i == i_end - 1 or j == j_end - 1:
                 step_a = j == j_end - 1
             elif self.irregular:  # the shorter diagonal: Delaunay's choice within a flat strip
-                step_a = (np.linalg.norm(a.pts[i + 1] - b.pts[j]) <= np.linalg.norm(a.pts[i] - b.pts[j + 1]))
+                step_a = np.linalg.norm(a.pts[i + 1] - b.pts[j]) <= np.linalg.norm(a.pts[i] - b.pts[j + 1])
             elif abs(a.t[i + 1] - b.t[j + 1]) > 1e-9:
                 step_a = a.t[i + 1] < b.t[j + 1]
             else:  # a quad of the grid
@@ -301,9 +316,10 @@ def _orient_pieces(triangles, labels):
 
 # -- the parts: dimensions drawn from the seed (_draw_*) and meshed at a spacing (_build_*) ---
 
+
 def _draw_transition(rng):
-    a = rng.uniform(0.8, 1.2)                     # half the square's side
-    r = a * rng.uniform(0.45, 0.85)               # the circle's radius
+    a = rng.uniform(0.8, 1.2)  # half the square's side
+    r = a * rng.uniform(0.45, 0.85)  # the circle's radius
     height = a * rng.uniform(1.0, 2.0)
     centre = np.r_[(a - r) * rng.uniform(-0.4, 0.4, 2), height]
     slant = np.hypot(height, a - r)
@@ -314,7 +330,7 @@ def _build_transition(g, asm):
     a, r, centre = g["half_side"], g["radius"], g["centre"]
     corners = np.array([[-a, -a, 0.0], [a, -a, 0.0], [a, a, 0.0], [-a, a, 0.0]])
     cv = asm.add(corners)
-    facing = -np.pi / 2 + np.pi / 2 * np.arange(4)   # side i (corner i to i + 1) faces this way
+    facing = -np.pi / 2 + np.pi / 2 * np.arange(4)  # side i (corner i to i + 1) faces this way
 
     def circle(angle):
         return centre + r * np.stack([np.cos(angle), np.sin(angle), np.zeros_like(angle)], -1)
@@ -323,30 +339,49 @@ def _build_transition(g, asm):
     tv = asm.add(tangent)
     # The seams: corner i -> T_i and corner i + 1 -> T_i bound triangle i, whose rows join them
     # point by point, so both get one count.
-    lengths = np.array([[np.linalg.norm(tangent[i] - corners[i]), np.linalg.norm(tangent[i] - corners[(i + 1) % 4])]
-                        for i in range(4)])
+    lengths = np.array(
+        [[np.linalg.norm(tangent[i] - corners[i]), np.linalg.norm(tangent[i] - corners[(i + 1) % 4])] for i in range(4)]
+    )
     grids = [asm.rows(lengths.mean())] * 4
     if asm.irregular:
         grids = [asm.rows(lengths[i].mean()) for i in range(4)]
     left = [asm.line(cv[i], corners[i], tv[i], tangent[i], grids[i], fixed=True) for i in range(4)]
-    right = [asm.line(cv[(i + 1) % 4], corners[(i + 1) % 4], tv[i], tangent[i], grids[i], fixed=True)
-             for i in range(4)]
+    right = [asm.line(cv[(i + 1) % 4], corners[(i + 1) % 4], tv[i], tangent[i], grids[i], fixed=True) for i in range(4)]
     quarter = asm.intervals(r * np.pi / 2, asm.across)
     for i in range(4):  # cone i: apex corner i, from T_{i-1} to T_i
         angles = asm.spacing(facing[i] - np.pi / 2, facing[i], quarter)[1:-1]
         arc = circle(angles)
-        columns = [right[i - 1]] + [asm.line(cv[i], corners[i], v, p, grids[0])
-                                    for v, p in zip(asm.add(arc), arc)] + [left[i]]
+        columns = (
+            [right[i - 1]]
+            + [asm.line(cv[i], corners[i], v, p, grids[0]) for v, p in zip(asm.add(arc), arc)]
+            + [left[i]]
+        )
         for j in range(len(columns) - 1):
             asm.strip(columns[j], columns[j + 1], 4 + i, j)
     for i in range(4):  # triangle i: rows from its left seam to its right one, up to T_i
-        rows = [asm.line(cv[i], corners[i], cv[(i + 1) % 4], corners[(i + 1) % 4],
-                         asm.intervals(2 * a, asm.across), step=asm.across)]
+        rows = [
+            asm.line(
+                cv[i],
+                corners[i],
+                cv[(i + 1) % 4],
+                corners[(i + 1) % 4],
+                asm.intervals(2 * a, asm.across),
+                step=asm.across,
+            )
+        ]
         for k in range(1, len(left[i].idx) - 1):
             p, q = left[i].pts[k], right[i].pts[k]
-            rows.append(asm.line(left[i].idx[k], p, right[i].idx[k], q,
-                                 asm.intervals(np.linalg.norm(q - p), asm.across), step=asm.across))
-        rows.append(_Column(tv[i:i + 1], np.zeros(1), tangent[i:i + 1]))
+            rows.append(
+                asm.line(
+                    left[i].idx[k],
+                    p,
+                    right[i].idx[k],
+                    q,
+                    asm.intervals(np.linalg.norm(q - p), asm.across),
+                    step=asm.across,
+                )
+            )
+        rows.append(_Column(tv[i : i + 1], np.zeros(1), tangent[i : i + 1]))
         for k in range(len(rows) - 1):
             asm.strip(rows[k], rows[k + 1], i, k)
 
@@ -354,32 +389,42 @@ def _build_transition(g, asm):
 def _draw_reducer(rng):
     r1 = rng.uniform(0.5, 0.9)
     r2 = r1 * rng.uniform(0.45, 0.8)
-    cone = (r1 - r2) / np.tan(np.radians(rng.uniform(12.0, 35.0)))   # half-angle 12-35 degrees
+    cone = (r1 - r2) / np.tan(np.radians(rng.uniform(12.0, 35.0)))  # half-angle 12-35 degrees
     l1, l2 = r1 * rng.uniform(0.6, 1.5), r2 * rng.uniform(0.8, 2.0)
     eccentric = bool(rng.integers(2))
     towards = rng.uniform(0, 2 * np.pi)
     # Eccentric: the small pipe's axis moved by r1 - r2, so that one side runs straight through.
     offset = (r1 - r2) * np.array([np.cos(towards), np.sin(towards), 0.0]) if eccentric else np.zeros(3)
     slant = np.hypot(cone, r1 - r2)
-    return {"radii": (r1, r2), "cone_length": cone, "lengths": (l1, l2), "eccentric": eccentric,
-            "offset": offset, "area": 2 * np.pi * (r1 * l1 + r2 * l2) + np.pi * (r1 + r2) * slant}
+    return {
+        "radii": (r1, r2),
+        "cone_length": cone,
+        "lengths": (l1, l2),
+        "eccentric": eccentric,
+        "offset": offset,
+        "area": 2 * np.pi * (r1 * l1 + r2 * l2) + np.pi * (r1 + r2) * slant,
+    }
 
 
 def _build_reducer(g, asm):
     (r1, r2), (l1, l2), h = g["radii"], g["lengths"], g["cone_length"]
     theta = asm.spacing(0, 2 * np.pi, asm.intervals(np.pi * (r1 + r2), asm.across), closed=True)
     around = np.stack([np.cos(theta), np.sin(theta), np.zeros_like(theta)], -1)
-    rings = [r1 * around - l1 * UP, r1 * around, g["offset"] + r2 * around + h * UP,
-             g["offset"] + r2 * around + (h + l2) * UP]
+    rings = [
+        r1 * around - l1 * UP,
+        r1 * around,
+        g["offset"] + r2 * around + h * UP,
+        g["offset"] + r2 * around + (h + l2) * UP,
+    ]
     asm.tube([(asm.add(p), p) for p in rings], [0, 1, 2])
 
 
 def _draw_elbow(rng, gores):
     radius = rng.uniform(0.4, 0.8)
-    bend = radius * rng.uniform(1.5, 3.0)                    # the centre line's radius
+    bend = radius * rng.uniform(1.5, 3.0)  # the centre line's radius
     turn = np.radians(rng.uniform(60.0, 120.0)) / (gores - 1)  # per mitre
-    extension = radius * rng.uniform(0.0, 1.0)               # straight pipe on the end gores
-    length = 2 * bend * np.tan(turn / 2)                     # a whole gore along its axis
+    extension = radius * rng.uniform(0.0, 1.0)  # straight pipe on the end gores
+    length = 2 * bend * np.tan(turn / 2)  # a whole gore along its axis
     axes = np.stack([np.cos(turn * np.arange(gores)), np.sin(turn * np.arange(gores)), np.zeros(gores)], -1)
     sides = np.cross(UP, axes)
     lengths = np.r_[length / 2 + extension, np.full(gores - 2, length), length / 2 + extension]
@@ -388,8 +433,14 @@ def _draw_elbow(rng, gores):
     rings = [(joints[0], axes[0], sides[0], axes[0])]
     rings += [(joints[k], axes[k - 1], sides[k - 1], _unit(axes[k - 1] + axes[k])) for k in range(1, gores)]
     rings += [(joints[-1], axes[-1], sides[-1], axes[-1])]
-    return {"radius": radius, "bend_radius": bend, "gores": gores, "turn": turn, "rings": rings,
-            "area": 2 * np.pi * radius * lengths.sum()}
+    return {
+        "radius": radius,
+        "bend_radius": bend,
+        "gores": gores,
+        "turn": turn,
+        "rings": rings,
+        "area": 2 * np.pi * radius * lengths.sum(),
+    }
 
 
 def _build_elbow(g, asm):
@@ -405,11 +456,15 @@ def _build_elbow(g, asm):
 
 def _draw_tee(rng):
     big = rng.uniform(0.5, 0.8)
-    small = big * rng.uniform(0.4, 0.8)          # equal radii would pinch the curve to a point
+    small = big * rng.uniform(0.4, 0.8)  # equal radii would pinch the curve to a point
     main = 2 * small + big * rng.uniform(2.0, 4.0)
-    branch = big + big * rng.uniform(1.0, 2.5)   # the branch's end above the main axis
-    return {"radii": (big, small), "main_length": main, "branch_height": branch,
-            "area": 2 * np.pi * (big * main + small * branch)}
+    branch = big + big * rng.uniform(1.0, 2.5)  # the branch's end above the main axis
+    return {
+        "radii": (big, small),
+        "main_length": main,
+        "branch_height": branch,
+        "area": 2 * np.pi * (big * main + small * branch),
+    }
 
 
 def _build_tee(g, asm):
@@ -428,8 +483,9 @@ def _build_tee(g, asm):
     phi, psi = phi[keep], psi[keep]
     half = len(phi)
     around = np.r_[phi, np.pi - phi[-2:0:-1]]
-    meet = np.stack([small * np.cos(around), small * np.sin(around),
-                     np.sqrt(big ** 2 - (small * np.sin(around)) ** 2)], -1)
+    meet = np.stack(
+        [small * np.cos(around), small * np.sin(around), np.sqrt(big**2 - (small * np.sin(around)) ** 2)], -1
+    )
     mv = asm.add(meet)
     top = meet * [1, 1, 0] + height * UP
     tv = asm.add(top)
@@ -448,13 +504,12 @@ def _build_tee(g, asm):
         ends = [main_point(angle, -length / 2), main_point(angle, length / 2)]
         ev = asm.add(ends)
         anchors, holes = [(ev[0], 0.0, ends[0])], []
-        if k in (0, half - 1):    # touches the curve at phi = -+pi/2
+        if k in (0, half - 1):  # touches the curve at phi = -+pi/2
             anchors.append((mv[k], 0.5, meet[k]))
             holes = [(0, 1, 1)]
-        elif k < half:            # crosses it at pi - phi (x < 0) and at phi (x > 0)
+        elif k < half:  # crosses it at pi - phi (x < 0) and at phi (x > 0)
             low = half + (half - 2 - k)
-            anchors += [(mv[low], 0.5 + meet[low, 0] / length, meet[low]),
-                        (mv[k], 0.5 + meet[k, 0] / length, meet[k])]
+            anchors += [(mv[low], 0.5 + meet[low, 0] / length, meet[low]), (mv[k], 0.5 + meet[k, 0] / length, meet[k])]
             holes = [(0, 1, 2)]
         anchors.append((ev[1], 1.0, ends[1]))
         columns.append(asm.ruling(anchors, grid, holes))
@@ -466,7 +521,7 @@ def _draw_ybranch(rng):
     radius = rng.uniform(0.4, 0.7)
     b1, b2 = np.radians(rng.uniform(25.0, 50.0, 2))
     axes = np.array([[np.sin(b1), 0.0, np.cos(b1)], [-np.sin(b2), 0.0, np.cos(b2)]])
-    crotch = _unit(axes[0] - axes[1])       # normal of the plane where the branches meet
+    crotch = _unit(axes[0] - axes[1])  # normal of the plane where the branches meet
     # How far up a branch the crotch reaches: its length is that plus 1-2.5 radii.
     frame = _unit(crotch - (crotch @ axes[0]) * axes[0])
     phi = np.linspace(np.pi / 2, 3 * np.pi / 2, 181)
@@ -474,14 +529,20 @@ def _draw_ybranch(rng):
     reach = np.max(-(q @ crotch) / (axes[0] @ crotch))
     trunk = radius * rng.uniform(1.5, 3.0)
     lengths = reach + radius * rng.uniform(1.0, 2.5, 2)
-    return {"radius": radius, "angles": (b1, b2), "axes": axes, "trunk_length": trunk, "branch_lengths": lengths,
-            "area": 2 * np.pi * radius * (trunk + lengths.sum())}
+    return {
+        "radius": radius,
+        "angles": (b1, b2),
+        "axes": axes,
+        "trunk_length": trunk,
+        "branch_lengths": lengths,
+        "area": 2 * np.pi * radius * (trunk + lengths.sum()),
+    }
 
 
 def _build_ybranch(g, asm):
     r, axes, lengths = g["radius"], g["axes"], g["branch_lengths"]
     y = np.array([0.0, 1.0, 0.0])
-    mitres = _unit(UP + axes)               # trunk / branch i: the plane that halves the turn
+    mitres = _unit(UP + axes)  # trunk / branch i: the plane that halves the turn
     crotch = _unit(axes[0] - axes[1])
     n = asm.intervals(np.pi * r, asm.across)
     # The trunk's columns: the half facing branch 0 (x >= 0, -pi/2 .. pi/2) meets it, the other
@@ -521,8 +582,11 @@ def _draw_cup(rng):
     bottom = rng.uniform(0.5, 0.8)
     top = bottom * rng.uniform(1.2, 1.6)
     height = bottom * rng.uniform(1.5, 3.0)
-    return {"radii": (bottom, top), "height": height,
-            "area": np.pi * (bottom + top) * np.hypot(height, top - bottom) + np.pi * bottom ** 2}
+    return {
+        "radii": (bottom, top),
+        "height": height,
+        "area": np.pi * (bottom + top) * np.hypot(height, top - bottom) + np.pi * bottom**2,
+    }
 
 
 def _build_cup(g, asm):
@@ -549,12 +613,13 @@ def _draw_holed_sheet(rng):
     width, depth = rng.uniform(1.5, 3.0), rng.uniform(1.0, 2.0)
     holes = [(width * rng.uniform(0.3, 0.7), depth * rng.uniform(0.35, 0.65), depth * rng.uniform(0.12, 0.22))]
     wanted = int(rng.integers(1, 4))
-    for _ in range(50):   # more holes where they fit, clear of the edges and of each other
+    for _ in range(50):  # more holes where they fit, clear of the edges and of each other
         if len(holes) == wanted:
             break
         rho = depth * rng.uniform(0.08, 0.18)
-        u, v = rng.uniform(rho + 0.1 * depth, width - rho - 0.1 * depth), rng.uniform(rho + 0.1 * depth,
-                                                                                      depth - rho - 0.1 * depth)
+        u, v = rng.uniform(rho + 0.1 * depth, width - rho - 0.1 * depth), rng.uniform(
+            rho + 0.1 * depth, depth - rho - 0.1 * depth
+        )
         if all(np.hypot(u - a, v - b) > rho + c + 0.15 * depth for a, b, c in holes):
             holes.append((u, v, rho))
     bent = bool(rng.integers(2))
@@ -563,8 +628,16 @@ def _draw_holed_sheet(rng):
     if bent:
         radius = min(radius, 0.5 * width / turn)
     start = width * rng.uniform(0.15, 0.85 - radius * turn / width)
-    return {"width": width, "depth": depth, "holes": holes, "bent": bent, "turn": turn, "bend_radius": radius,
-            "bend_start": start, "area": width * depth}
+    return {
+        "width": width,
+        "depth": depth,
+        "holes": holes,
+        "bent": bent,
+        "turn": turn,
+        "bend_radius": radius,
+        "bend_start": start,
+        "area": width * depth,
+    }
 
 
 def _sheet_point(g, u, v):
@@ -594,8 +667,11 @@ def _build_holed_sheet(g, asm):
             continue
         cu, radius = (u[lo] + u[hi]) / 2, (u[hi] - u[lo]) / 2
         clear = 0.05 * depth + radius
-        if (clear < centre_v < depth - clear and lo >= 1
-                and all(np.hypot(cu - a, centre_v - b) > radius + c + 0.05 * depth for a, b, c, _, _ in holes)):
+        if (
+            clear < centre_v < depth - clear
+            and lo >= 1
+            and all(np.hypot(cu - a, centre_v - b) > radius + c + 0.05 * depth for a, b, c, _, _ in holes)
+        ):
             holes.append((cu, centre_v, radius, lo, hi))
     if not holes:
         raise ValueError("no hole fits the holed sheet at this spacing (too few faces?)")
@@ -604,10 +680,10 @@ def _build_holed_sheet(g, asm):
     for k, x in enumerate(u):
         ends = _sheet_point(g, [x, x], [0.0, depth])
         ev = asm.add(ends)
-        inside = []   # (v, hole, vertices of the hole on this column)
+        inside = []  # (v, hole, vertices of the hole on this column)
         for h, (cu, cv, radius, lo, hi) in enumerate(holes):
             if lo <= k <= hi:
-                half = 0.0 if k in (lo, hi) else np.sqrt(max(radius ** 2 - (x - cu) ** 2, 0.0))
+                half = 0.0 if k in (lo, hi) else np.sqrt(max(radius**2 - (x - cu) ** 2, 0.0))
                 vs = [cv] if k in (lo, hi) else [cv - half, cv + half]
                 p = _sheet_point(g, [x] * len(vs), vs)
                 inside.append((cv, h, list(zip(asm.add(p), vs, p))))
@@ -622,15 +698,30 @@ def _build_holed_sheet(g, asm):
     asm.info["holes_meshed"] = len(holes)
 
 
-_DRAW = {"transition": _draw_transition, "reducer": _draw_reducer, "elbow4": lambda rng: _draw_elbow(rng, 4),
-         "elbow6": lambda rng: _draw_elbow(rng, 6), "tee": _draw_tee, "ybranch": _draw_ybranch, "cup": _draw_cup,
-         "holed_sheet": _draw_holed_sheet}
-_BUILD = {"transition": _build_transition, "reducer": _build_reducer, "elbow4": _build_elbow,
-          "elbow6": _build_elbow, "tee": _build_tee, "ybranch": _build_ybranch, "cup": _build_cup,
-          "holed_sheet": _build_holed_sheet}
+_DRAW = {
+    "transition": _draw_transition,
+    "reducer": _draw_reducer,
+    "elbow4": lambda rng: _draw_elbow(rng, 4),
+    "elbow6": lambda rng: _draw_elbow(rng, 6),
+    "tee": _draw_tee,
+    "ybranch": _draw_ybranch,
+    "cup": _draw_cup,
+    "holed_sheet": _draw_holed_sheet,
+}
+_BUILD = {
+    "transition": _build_transition,
+    "reducer": _build_reducer,
+    "elbow4": _build_elbow,
+    "elbow6": _build_elbow,
+    "tee": _build_tee,
+    "ybranch": _build_ybranch,
+    "cup": _build_cup,
+    "holed_sheet": _build_holed_sheet,
+}
 
 
 # -- the generators ---------------------------------------------------------------------------
+
 
 def make(part, triangulation="grid", faces=3000, noise=0.02, seed=0):
     """An AssemblyMesh of `part` (PARTS) in `triangulation` (TRIANGULATIONS) with about `faces`
@@ -665,19 +756,21 @@ def make(part, triangulation="grid", faces=3000, noise=0.02, seed=0):
             best = (points, triangles, pieces, built, h)
         if abs(len(triangles) / faces - 1) <= 0.1:
             break
-        h *= (len(triangles) / faces) ** (0.5 ** (attempt + 1))   # damped: steps would oscillate
+        h *= (len(triangles) / faces) ** (0.5 ** (attempt + 1))  # damped: steps would oscillate
     points, triangles, pieces, built, h = best
     clean = points @ rotation.T + shift
-    edges = np.unique(np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]),
-                              axis=1), axis=0)
+    edges = np.unique(
+        np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1), axis=0
+    )
     ae = np.linalg.norm(clean[edges[:, 0]] - clean[edges[:, 1]], axis=1).mean()
     positions = clean + np.random.default_rng(which + [2]).uniform(-1.0, 1.0, clean.shape) * noise * ae
     edge, f, g, _ = _edge_faces(triangles)
     creases = edge[pieces[f] != pieces[g]].astype(np.int32)
     info = {key: value for key, value in geometry.items() if key not in ("rings", "area")}
     info.update(built, ae=ae, spacing=h)
-    return AssemblyMesh(part, triangulation, seed, noise, positions, clean, triangles, pieces,
-                        NATURAL_PIECES[part], creases, info)
+    return AssemblyMesh(
+        part, triangulation, seed, noise, positions, clean, triangles, pieces, NATURAL_PIECES[part], creases, info
+    )
 
 
 def random_case(part, seed, faces=(1000, 8000), noise=(0.005, 0.05), triangulations=None):

@@ -135,7 +135,7 @@ def ruled_spread(positions, triangles):
     Vectorised: bincount per entry of M, one batched eigvalsh."""
     positions = np.asarray(positions, dtype=np.float64)
     n = len(positions)
-    normals = np.repeat(face_normals(positions, triangles), 3, axis=0)   # per corner
+    normals = np.repeat(face_normals(positions, triangles), 3, axis=0)  # per corner
     corner = np.asarray(triangles).ravel()
     weight = tip_angles(positions, triangles).ravel()
     m = np.empty((n, 3, 3))
@@ -160,15 +160,20 @@ def developability_figures(positions, triangles, interior=None, flat=FLAT, ruled
     defects, inner = angle_defects(np.asarray(positions, dtype=np.float64), np.asarray(triangles))
     counted = inner if interior is None else inner & np.asarray(interior, dtype=bool)
     is_flat = np.abs(defects[counted]) < flat
-    with np.errstate(invalid="ignore"):   # NaN (boundary) spreads are not ruled
+    with np.errstate(invalid="ignore"):  # NaN (boundary) spreads are not ruled
         is_ruled = ruled_spread(positions, triangles)[counted] < ruled
     count = int(counted.sum())
 
     def share(mask):
         return float(mask.mean()) if count else float("nan")
 
-    return {"vertices": count, "flat": share(is_flat), "ruled": share(is_ruled),
-            "flat_and_ruled": share(is_flat & is_ruled), "crumpled": share(is_flat & ~is_ruled)}
+    return {
+        "vertices": count,
+        "flat": share(is_flat),
+        "ruled": share(is_ruled),
+        "flat_and_ruled": share(is_flat & is_ruled),
+        "crumpled": share(is_flat & ~is_ruled),
+    }
 
 
 def dihedral_angles(positions, triangles, edges):

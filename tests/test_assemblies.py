@@ -54,11 +54,11 @@ def inside_pieces(mesh):
 @pytest.fixture(scope="module")
 def generated():
     """Every triangulation of every part for three seeds, 800-2400 faces, noise 2 %."""
-    return {(p, t, s): assemblies.make(p, t, faces=800 + 800 * s, noise=0.02, seed=s)
-            for p, t in CASES for s in SEEDS}
+    return {(p, t, s): assemblies.make(p, t, faces=800 + 800 * s, noise=0.02, seed=s) for p, t in CASES for s in SEEDS}
 
 
 # -- the generator -------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("part", assemblies.PARTS)
 def test_the_same_arguments_give_the_same_mesh_bit_for_bit(part):
@@ -79,11 +79,11 @@ def test_every_triangulation_is_one_welded_manifold_oriented_mesh(generated, par
         t, n = m.triangles, len(m.clean)
         assert t.dtype == np.int32 and m.pieces.dtype == np.int32 and m.creases.dtype == np.int32
         assert 0.75 * (800 + 800 * seed) <= len(t) <= 1.25 * (800 + 800 * seed), (where, len(t))
-        assert np.array_equal(np.unique(t), np.arange(n)), where          # no loose vertex
+        assert np.array_equal(np.unique(t), np.arange(n)), where  # no loose vertex
         assert np.all((t[:, 0] != t[:, 1]) & (t[:, 1] != t[:, 2]) & (t[:, 2] != t[:, 0])), where
         edges, count, directed = edges_of(t)
-        assert count.max() <= 2, where                                     # manifold edges
-        assert directed.max() == 1, where                                  # one orientation
+        assert count.max() <= 2, where  # manifold edges
+        assert directed.max() == 1, where  # one orientation
         # Welded: no two vertices in one place.
         diagonal = np.linalg.norm(m.clean.max(axis=0) - m.clean.min(axis=0))
         assert not cKDTree(m.clean).query_pairs(1e-9 * diagonal), where
@@ -200,6 +200,7 @@ def test_scan_sheets_are_families_with_scan_noise():
 
 # -- the measures on closed-form cases -------------------------------------------------------
 
+
 def miura(rows=9, cols=11, step=1.0, height=0.5, shift=0.4, depth=1.0):
     """A Miura-ori, the translational surface of two zigzags, (i step, 0, height (i mod 2)) and
     (shift (j mod 2), j depth, 0): planar parallelograms whose four angles at every vertex are
@@ -215,10 +216,15 @@ def test_a_cylinder_and_a_cone_are_flat_and_ruled():
         spread = ruled_spread(positions, triangles)
         _, interior = angle_defects(positions, triangles)
         assert np.all(spread[interior] < 1e-6)
-        assert np.all(np.isnan(spread[~interior]))               # boundary: NaN
+        assert np.all(np.isnan(spread[~interior]))  # boundary: NaN
         figures = developability_figures(positions, triangles)
-        assert figures == {"vertices": int(interior.sum()), "flat": 1.0, "ruled": 1.0, "flat_and_ruled": 1.0,
-                           "crumpled": 0.0}
+        assert figures == {
+            "vertices": int(interior.sum()),
+            "flat": 1.0,
+            "ruled": 1.0,
+            "flat_and_ruled": 1.0,
+            "crumpled": 0.0,
+        }
 
 
 def test_a_cones_apex_spreads_by_its_normals_circle():
@@ -244,7 +250,7 @@ def test_a_miura_ori_is_flat_but_not_ruled():
     a = np.arccos(step * shift / (np.hypot(step, height) * np.hypot(shift, depth)))
     norm2 = (height * depth) ** 2 + (height * shift) ** 2 + (step * depth) ** 2
     xx, zz = 2 * np.pi * (height * depth) ** 2, 2 * np.pi * (step * depth) ** 2
-    xz = 2 * (np.pi - 2 * a) * height * step * depth ** 2
+    xz = 2 * (np.pi - 2 * a) * height * step * depth**2
     smallest = min(2 * np.pi * (height * shift) ** 2, (xx + zz) / 2 - np.hypot((xx - zz) / 2, xz)) / norm2
     expected = np.arcsin(np.sqrt(smallest / (2 * np.pi)))
     assert expected > 0.1
@@ -265,7 +271,7 @@ def test_a_pleated_sheet_is_flat_and_ruled():
 
 def test_a_noisy_sheet_is_neither_flat_nor_ruled():
     positions, triangles = meshes.plane(rows=20, cols=24)
-    noisy = meshes.add_noise(positions, 0.05, seed=3)   # half a tenth of the edge length
+    noisy = meshes.add_noise(positions, 0.05, seed=3)  # half a tenth of the edge length
     spread = ruled_spread(noisy, triangles)
     _, interior = angle_defects(noisy, triangles)
     assert np.mean(spread[interior] > 0.02) > 0.95

@@ -82,7 +82,12 @@ enum {
 
 /* What the run returned (dev_stats.result). */
 enum {
-  DEV_RESULT_IMPROVED = 0, /* the returned mesh is better and no user-facing figure got worse */
+  DEV_RESULT_IMPROVED = 0, /* the returned mesh is admissible and better (docs/method.md, "The rule"):
+                              no face turned over, no crease inside a patch, within the move limit,
+                              the mean |defect| not above the input's (a closed mesh's up to 5 %
+                              above), the flat share not below it, a gain a user sees; any figure
+                              that got worse all the same (the largest |defect|, a closed mesh's
+                              mean) is in dev_stats.worse_figures and the message */
   DEV_RESULT_UNCHANGED = 1 /* the input is returned (no honest improvement within the limits, or
                               already developable); why: dev_stats.unchanged_reason, in words
                               dev_stats.result_message */
@@ -198,9 +203,8 @@ typedef struct dev_stats {
   double time_iterate_ms;   /* t_I: the iterations */
   double time_total_ms;     /* t_T: the whole call, checks and fitting included */
   /* ABI 3: */
-  int32_t result;            /* DEV_RESULT_*. An iterate is only returned when it turns no face
-                                over, its mean |defect| is not above the input's and its flat
-                                share not below; else the input comes back, UNCHANGED */
+  int32_t result;            /* DEV_RESULT_*: the admissible candidate the order returns (see
+                                DEV_RESULT_IMPROVED), or the input, UNCHANGED */
   int64_t faces_turned_over; /* faces of the result whose normal is > 90 degrees from the
                                 input's (not counting faces already turned in the input) */
   double flat_share_before;  /* share of interior vertices with |defect| < 1e-3 rad, 0..1 */

@@ -226,8 +226,10 @@ double EffectField::sample(const Eigen::Vector2d& p) const {
   return sum;
 }
 
-EffectField compute_effect_field(const ChartPoints& points, const Eigen::VectorXd& weights,
-                                 const EffectFieldOptions& options) {
+namespace {
+
+// Throws EngineError(invalid_argument) naming the first bad input.
+void check_field_input(const ChartPoints& points, const Eigen::VectorXd& weights, const EffectFieldOptions& options) {
   if (points.rows() != weights.size()) {
     throw EngineError(Status::invalid_argument, "effect field: " + std::to_string(points.rows()) + " points but " +
                                                     std::to_string(weights.size()) + " weights");
@@ -240,11 +242,6 @@ EffectField compute_effect_field(const ChartPoints& points, const Eigen::VectorX
   if (!(options.effect_radius >= 0.0) || !std::isfinite(options.effect_radius)) {
     throw EngineError(Status::invalid_argument, "effect field: effect_radius must be finite and >= 0");
   }
-  if (!(options.density_scale >= 0.0) || !std::isfinite(options.density_scale)) {
-    throw EngineError(Status::invalid_argument, "effect field: density_scale must be finite and >= 0");
-  }
-  bool any_weight = false;
-  Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
   for (Eigen::Index i = 0; i < points.rows(); ++i) {
     if (!points.row(i).allFinite()) {
       throw EngineError(Status::invalid_argument, "effect field: point " + std::to_string(i) + " is not finite");
@@ -253,113 +250,141 @@ EffectField compute_effect_field(const ChartPoints& points, const Eigen::VectorX
       throw EngineError(Status::invalid_argument,
                         "effect field: weight " + std::to_string(i) + " is negative or not finite");
     }
-    any_weight = any_weight || weights[i] > 0.0;
+  }
+}
+
+// The points binned into the cells of the grid: per cell their weight,
+// count, weighted position sums and second moments, and the occupied cells'
+// sources.
+struct Bins {
+  std::vector<double> weight;
+  std::vector<int> count;
+  std::vector<Eigen::Vector2d> sum, plain_sum;
+  std::vector<Eigen::Matrix2d> outer;
+  std::vector<int> source;  // per cell: its index in EffectField::sources, -1 when empty
+};
+
+// Sets the field's window (resolution, cell size, origin: the points'
+// bounding square, kPadCells cells of margin) and returns its extent (the
+// bounding square's side).
+double place_window(EffectField& field, const ChartPoints& points, int resolution) {
+  Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
     lo = lo.cwiseMin(points.row(i).transpose());
     hi = hi.cwiseMax(points.row(i).transpose());
   }
-
-  EffectField field;
-  const int n = options.grid_resolution;
-  field.resolution = n;
+  field.resolution = resolution;
   // A window that cannot collapse: all points equal still get a tiny one.
   const double extent = std::max((hi - lo).maxCoeff(), 1e-9);
-  const double side = extent / (1.0 - 2.0 * kPadCells / n);
-  field.cell_size = side / n;
+  const double side = extent / (1.0 - 2.0 * kPadCells / resolution);
+  field.cell_size = side / resolution;
   field.origin = 0.5 * (lo + hi) - Eigen::Vector2d::Constant(0.5 * side);
-  const double h = field.cell_size;
+  return extent;
+}
 
-  // Bin: per cell, weight, count and weighted position sums.
+// Bins the points into the field's cells and fills field.sources (in cell
+// order) and field.total_weight. Without any positive weight every point
+// weighs 1.
+Bins bin_points(EffectField& field, const ChartPoints& points, const Eigen::VectorXd& weights) {
+  const int n = field.resolution;
+  const double h = field.cell_size;
+  const bool any_weight = (weights.array() > 0.0).any();
   const size_t cells = static_cast<size_t>(n) * n;
-  std::vector<double> cell_weight(cells, 0.0);
-  std::vector<int> cell_count(cells, 0);
-  std::vector<Eigen::Vector2d> cell_sum(cells, Eigen::Vector2d::Zero());
-  std::vector<Eigen::Vector2d> cell_plain_sum(cells, Eigen::Vector2d::Zero());
-  std::vector<Eigen::Matrix2d> cell_outer(cells, Eigen::Matrix2d::Zero());
+  Bins bins{std::vector<double>(cells, 0.0),
+            std::vector<int>(cells, 0),
+            std::vector<Eigen::Vector2d>(cells, Eigen::Vector2d::Zero()),
+            std::vector<Eigen::Vector2d>(cells, Eigen::Vector2d::Zero()),
+            std::vector<Eigen::Matrix2d>(cells, Eigen::Matrix2d::Zero()),
+            std::vector<int>(cells, -1)};
   for (Eigen::Index i = 0; i < points.rows(); ++i) {
     const Eigen::Vector2d p = points.row(i).transpose();
     const int ix = clamp_index((p.x() - field.origin.x()) / h, n);
     const int iy = clamp_index((p.y() - field.origin.y()) / h, n);
     const size_t c = static_cast<size_t>(iy) * n + ix;
     const double w = any_weight ? weights[i] : 1.0;
-    cell_weight[c] += w;
-    cell_count[c] += 1;
-    cell_sum[c] += w * p;
-    cell_outer[c] += w * p * p.transpose();
-    cell_plain_sum[c] += p;
+    bins.weight[c] += w;
+    bins.count[c] += 1;
+    bins.sum[c] += w * p;
+    bins.outer[c] += w * p * p.transpose();
+    bins.plain_sum[c] += p;
   }
-  std::vector<int> cell_source(cells, -1);
   for (size_t c = 0; c < cells; ++c) {
-    if (cell_count[c] == 0) continue;
+    if (bins.count[c] == 0) continue;
     FieldSource s;
-    s.weight = cell_weight[c];
-    s.count = cell_count[c];
+    s.weight = bins.weight[c];
+    s.count = bins.count[c];
     s.position =
-        s.weight > 0.0 ? Eigen::Vector2d(cell_sum[c] / s.weight) : Eigen::Vector2d(cell_plain_sum[c] / s.count);
-    cell_source[c] = static_cast<int>(field.sources.size());
+        s.weight > 0.0 ? Eigen::Vector2d(bins.sum[c] / s.weight) : Eigen::Vector2d(bins.plain_sum[c] / s.count);
+    bins.source[c] = static_cast<int>(field.sources.size());
     field.sources.push_back(s);
     field.total_weight += s.weight;
   }
+  return bins;
+}
 
-  // Effect radius.
-  const ThicknessProbe probe(field, cell_weight, cell_sum, cell_outer);
-  double radius = options.effect_radius;
-  if (radius == 0.0) {
-    std::vector<double> gaps = nearest_source_gaps(field, cell_source);
-    double g90 = 0.0;
-    if (!gaps.empty()) {
-      const size_t k = std::min(gaps.size() - 1, static_cast<size_t>(0.9 * gaps.size()));
-      std::nth_element(gaps.begin(), gaps.begin() + k, gaps.end());
-      g90 = gaps[k];
-    }
-    const double linked = linking_distance(field, cell_source, 4.0);
-    const double lower = 3.0 * h;
-    const double upper = std::max(0.25 * extent, lower);
-    radius = std::min(upper, std::max(lower, std::max({0.08 * extent, 1.5 * g90, 2.0 * linked})));
-    // Wider than three times the across-curve scatter, so the field is one
-    // ridge across a noisy curve (and one smooth bump on a noisy plane)
-    // rather than a ridge per clump of noise. The scatter measured depends on
-    // the window for a 2-D blob, hence the few rounds.
-    for (int round = 0; round < 8 && radius < upper; ++round) {
-      const double wanted = 3.3 * probe.thickness(radius);
-      if (wanted <= radius) break;
-      radius = std::min(upper, wanted);
-    }
+// The automatic effect radius (see automatic_effect_radius in the header).
+double automatic_radius(const EffectField& field, const Bins& bins, const ThicknessProbe& probe, double extent) {
+  const double h = field.cell_size;
+  std::vector<double> gaps = nearest_source_gaps(field, bins.source);
+  double g90 = 0.0;
+  if (!gaps.empty()) {
+    const size_t k = std::min(gaps.size() - 1, static_cast<size_t>(0.9 * gaps.size()));
+    std::nth_element(gaps.begin(), gaps.begin() + k, gaps.end());
+    g90 = gaps[k];
   }
-  // A radius below one cell would leave only isolated spikes.
-  radius = std::max(radius, h);
-  field.thickness = probe.thickness(radius);
-  field.effect_radius = radius;
-  field.base_softening = std::max(radius / 3.0, h);
+  const double linked = linking_distance(field, bins.source, 4.0);
+  const double lower = 3.0 * h;
+  const double upper = std::max(0.25 * extent, lower);
+  double radius = std::min(upper, std::max(lower, std::max({0.08 * extent, 1.5 * g90, 2.0 * linked})));
+  // Wider than three times the across-curve scatter, so the field is one
+  // ridge across a noisy curve (and one smooth bump on a noisy plane) rather
+  // than a ridge per clump of noise. The scatter measured depends on the
+  // window for a 2-D blob, hence the few rounds.
+  for (int round = 0; round < 8 && radius < upper; ++round) {
+    const double wanted = 3.3 * probe.thickness(radius);
+    if (wanted <= radius) break;
+    radius = std::min(upper, wanted);
+  }
+  return radius;
+}
 
-  // With a wide kernel the cells are much finer than the field needs (its
-  // features are ~R/3 wide): splat from blocks of b x b cells, b = R / (6 h),
-  // each a source at its weighted centroid. Keeps the cost near
-  // O(cells * 36 * pi) whatever R is, at no visible change of the field.
-  const int block = std::max(1, static_cast<int>(std::floor(radius / (6.0 * h))));
+// With a wide kernel the cells are much finer than the field needs (its
+// features are ~R/3 wide): the sources splatted from blocks of b x b cells,
+// b = R / (6 h), each a source at its weighted centroid. Keeps the cost near
+// O(cells * 36 * pi) whatever R is, at no visible change of the field.
+std::vector<FieldSource> splat_sources(const EffectField& field) {
+  const int n = field.resolution;
+  const double h = field.cell_size;
+  const int block = std::max(1, static_cast<int>(std::floor(field.effect_radius / (6.0 * h))));
+  if (block == 1) return field.sources;
+  const int nb = (n + block - 1) / block;
+  std::vector<FieldSource> merged(static_cast<size_t>(nb) * nb);
+  for (auto& m : merged) m.position.setZero();
+  for (const FieldSource& src : field.sources) {
+    const int bx = clamp_index((src.position.x() - field.origin.x()) / h, n) / block;
+    const int by = clamp_index((src.position.y() - field.origin.y()) / h, n) / block;
+    FieldSource& m = merged[static_cast<size_t>(by) * nb + bx];
+    m.position += src.weight * src.position;
+    m.weight += src.weight;
+    m.count += src.count;
+  }
   std::vector<FieldSource> splat;
-  if (block == 1) {
-    splat = field.sources;
-  } else {
-    const int nb = (n + block - 1) / block;
-    std::vector<FieldSource> merged(static_cast<size_t>(nb) * nb);
-    for (auto& m : merged) m.position.setZero();
-    for (const FieldSource& src : field.sources) {
-      const int bx = clamp_index((src.position.x() - field.origin.x()) / h, n) / block;
-      const int by = clamp_index((src.position.y() - field.origin.y()) / h, n) / block;
-      FieldSource& m = merged[static_cast<size_t>(by) * nb + bx];
-      m.position += src.weight * src.position;
-      m.weight += src.weight;
-      m.count += src.count;
-    }
-    for (FieldSource& m : merged) {
-      if (m.weight > 0.0) {
-        m.position /= m.weight;
-        splat.push_back(m);
-      }
+  for (FieldSource& m : merged) {
+    if (m.weight > 0.0) {
+      m.position /= m.weight;
+      splat.push_back(m);
     }
   }
+  return splat;
+}
 
-  // Splat every source over the cells of its effect region.
+// Adds every source's kernel over the cells of its effect region to
+// field.values (Eq. 1 with the density term r(p) = share(cell) * R, the
+// paper's k = 1).
+void splat_field(EffectField& field, const std::vector<FieldSource>& splat) {
+  const int n = field.resolution;
+  const double h = field.cell_size;
+  const double radius = field.effect_radius;
   field.values = Eigen::MatrixXd::Zero(n, n);
   const double rho0_2 = field.base_softening * field.base_softening;
   const double radius2 = radius * radius;
@@ -377,7 +402,7 @@ EffectField compute_effect_field(const ChartPoints& points, const Eigen::VectorX
   const double to_table = kTable / radius2;
   for (const FieldSource& s : splat) {
     if (!(s.weight > 0.0)) continue;
-    const double r = options.density_scale * (s.weight / total) * radius;
+    const double r = (s.weight / total) * radius;
     const double rho2 = rho0_2 + r * r;
     const double cut = 1.0 / std::sqrt(radius2 + rho2);
     const bool tabulated = r * r <= 1e-4 * rho0_2;
@@ -412,6 +437,24 @@ EffectField compute_effect_field(const ChartPoints& points, const Eigen::VectorX
       }
     }
   }
+}
+
+}  // namespace
+
+EffectField compute_effect_field(const ChartPoints& points, const Eigen::VectorXd& weights,
+                                 const EffectFieldOptions& options) {
+  check_field_input(points, weights, options);
+  EffectField field;
+  const double extent = place_window(field, points, options.grid_resolution);
+  const Bins bins = bin_points(field, points, weights);
+  const ThicknessProbe probe(field, bins.weight, bins.sum, bins.outer);
+  double radius = options.effect_radius == 0.0 ? automatic_radius(field, bins, probe, extent) : options.effect_radius;
+  // A radius below one cell would leave only isolated spikes.
+  radius = std::max(radius, field.cell_size);
+  field.thickness = probe.thickness(radius);
+  field.effect_radius = radius;
+  field.base_softening = std::max(radius / 3.0, field.cell_size);
+  splat_field(field, splat_sources(field));
   return field;
 }
 

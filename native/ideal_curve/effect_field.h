@@ -12,7 +12,7 @@
 //    (not at the cell centre), with amplitude its total weight (face area):
 //    "the more points a grid contains, the larger its influence", counted by
 //    area so that a finely tessellated region does not dominate.
-//  * The density term r(p) = k * share(cell) * R, share = the cell's fraction
+//  * The density term r(p) = k * share(cell) * R with k = 1, share = the cell's fraction
 //    of the total weight (the paper's #(points in cell)/#(points) for uniform
 //    weights). Multiplying by R gives it chart units: a cell holding the whole
 //    patch spreads its influence over its effect region. It softens the
@@ -34,8 +34,6 @@ struct EffectFieldOptions {
   int grid_resolution = 128;
   // Effect radius R in chart units (>= 0); 0 = automatic (see below).
   double effect_radius = 0.0;
-  // k of the density term r(p); >= 0.
-  double density_scale = 1.0;
 };
 
 // One occupied cell of the grid: where its points are and how much they weigh.

@@ -119,10 +119,6 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
                                                     std::to_string(weights.size()) + " weights");
   }
   if (normals.rows() == 0) throw EngineError(Status::invalid_argument, "ideal curve: empty patch");
-  if (options.samples_per_curve < 2 || options.samples_per_curve > 1000000) {
-    throw EngineError(Status::invalid_argument, "ideal curve: samples_per_curve must be in 2..1000000, got " +
-                                                    std::to_string(options.samples_per_curve));
-  }
   // Clean copies: unit normals; zero-length normals (collapsed faces) weigh 0.
   const Eigen::Index count = normals.rows();
   Normals unit(count, 3);
@@ -171,7 +167,6 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
   field_options.grid_resolution =
       options.grid_resolution > 0 ? options.grid_resolution : automatic_grid_resolution(count);
   field_options.effect_radius = options.effect_radius;
-  field_options.density_scale = options.density_scale;
   const EffectField field = compute_effect_field(points, w, field_options);
   const std::vector<SkeletonCurve> skeleton = extract_skeleton(field, SkeletonOptions());
   if (skeleton.empty()) return {single_point(mean)};
@@ -211,7 +206,7 @@ std::vector<SphereCurve> fit_ideal_curves(const Normals& normals, const Eigen::V
     const BSpline& s = splines[k];
     SphereCurve c;
     c.closed = s.closed;
-    const ChartPolyline line = sample_bspline(s, options.samples_per_curve);
+    const ChartPolyline line = sample_bspline(s, kSamplesPerCurve);
     c.points.reserve(line.points.size());
     for (const auto& p : line.points) c.points.push_back(chart.to_sphere(p));
     curves.push_back(std::move(c));

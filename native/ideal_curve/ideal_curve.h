@@ -30,12 +30,11 @@ struct IdealCurveOptions {
   // spans a disc of radius 2). 0: automatic (compute_effect_field in
   // effect_field.h).
   double effect_radius = 0.0;
-  // k of the density term r(p) = k * share(cell) * R, share = the cell's
-  // fraction of the total weight (effect_field.h).
-  double density_scale = 1.0;
-  // Polyline samples per fitted B-spline; more gives finer targets.
-  int samples_per_curve = 512;
 };
+
+// Polyline samples per fitted B-spline (fit_ideal_curves): the targets are
+// the nearest points on these, about 0.1 degree apart on a typical curve.
+inline constexpr int kSamplesPerCurve = 512;
 
 // The effect-field grid for `normal_count` normals: 2 sqrt(N) cells per side,
 // from 32 to 128. A few thousand normals leave most cells of a finer grid

@@ -255,17 +255,13 @@ std::vector<Eigen::Vector2d> find_ridge_points(const EffectField& field, double 
   return ridge;
 }
 
-std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>& points, double link_distance,
-                                              double join_distance, double min_branch_fraction, double min_length) {
-  if (!(link_distance > 0.0) || !std::isfinite(link_distance)) {
-    throw EngineError(Status::invalid_argument, "skeleton: link_distance must be finite and > 0");
-  }
-  std::vector<SkeletonCurve> curves;
-  const int count = static_cast<int>(points.size());
-  if (count < 2) return curves;
+namespace {
 
-  // k-nearest-neighbour graph within link_distance, through a bucket grid.
+// The edges of the k-nearest-neighbour graph of the points within
+// `link_distance` (kNeighbours per point), found through a bucket grid.
+std::vector<Edge> neighbour_edges(const std::vector<Eigen::Vector2d>& points, double link_distance) {
   constexpr int kNeighbours = 8;
+  const int count = static_cast<int>(points.size());
   Eigen::Vector2d lo = points[0], hi = points[0];
   for (const auto& p : points) {
     lo = lo.cwiseMin(p);
@@ -314,8 +310,11 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
       edges.push_back({std::sqrt(near[s].first), std::min(k, near[s].second), std::max(k, near[s].second)});
     }
   }
+  return edges;
+}
 
-  // Kruskal: the minimum spanning forest.
+// Kruskal: the minimum spanning forest of `edges` over `count` points.
+Tree spanning_forest(std::vector<Edge> edges, int count) {
   std::sort(edges.begin(), edges.end());
   UnionFind sets(count);
   Tree tree(count);
@@ -325,9 +324,30 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
       tree[e.b].emplace_back(e.a, e.length);
     }
   }
+  return tree;
+}
 
-  // Per component: the longest path, then hanging branches.
-  std::vector<Candidate> pieces, branches;
+// Marks every point of `root`'s component of the tree as seen.
+void mark_component(const Tree& tree, int root, std::vector<char>& seen) {
+  std::vector<int> stack{root};
+  seen[root] = 1;
+  while (!stack.empty()) {
+    const int u = stack.back();
+    stack.pop_back();
+    for (const auto& [v, w] : tree[u]) {
+      if (!seen[v]) {
+        seen[v] = 1;
+        stack.push_back(v);
+      }
+    }
+  }
+}
+
+// Per component of the forest: the longest path (into `pieces`), and the
+// subtrees hanging off it, measured from their junction (into `branches`).
+void tree_paths(const Tree& tree, const std::vector<Eigen::Vector2d>& points, double link_distance,
+                std::vector<Candidate>& pieces, std::vector<Candidate>& branches) {
+  const int count = static_cast<int>(points.size());
   std::vector<char> blocked(count, 0), seen(count, 0);
   std::vector<int> parent(count, -1);
   std::vector<double> dist(count, 0.0);
@@ -336,27 +356,12 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
     const int a = farthest(tree, root, blocked, parent, dist);
     const int b = farthest(tree, a, blocked, parent, dist);
     const std::vector<int> main = path_to(b, parent);  // b ... a
-    {
-      // Mark the whole component as seen.
-      std::vector<int> stack{root};
-      seen[root] = 1;
-      while (!stack.empty()) {
-        const int u = stack.back();
-        stack.pop_back();
-        for (const auto& [v, w] : tree[u]) {
-          if (!seen[v]) {
-            seen[v] = 1;
-            stack.push_back(v);
-          }
-        }
-      }
-    }
+    mark_component(tree, root, seen);
     if (main.size() < 2) continue;
     Candidate c;
     for (int u : main) c.points.push_back(points[u]);
     c.length = path_length(c.points);
     c.closed = closes(c, link_distance);
-    // Branches: subtrees hanging off the main path, measured from the junction.
     for (int u : main) blocked[u] = 1;
     for (int u : main) {
       for (const auto& [v, w] : tree[u]) {
@@ -375,7 +380,20 @@ std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>
     for (int u : main) blocked[u] = 0;
     pieces.push_back(std::move(c));
   }
+}
 
+}  // namespace
+
+std::vector<SkeletonCurve> order_ridge_points(const std::vector<Eigen::Vector2d>& points, double link_distance,
+                                              double join_distance, double min_branch_fraction, double min_length) {
+  if (!(link_distance > 0.0) || !std::isfinite(link_distance)) {
+    throw EngineError(Status::invalid_argument, "skeleton: link_distance must be finite and > 0");
+  }
+  std::vector<SkeletonCurve> curves;
+  if (points.size() < 2) return curves;
+  const Tree tree = spanning_forest(neighbour_edges(points, link_distance), static_cast<int>(points.size()));
+  std::vector<Candidate> pieces, branches;
+  tree_paths(tree, points, link_distance, pieces, branches);
   std::vector<Candidate> found = join_pieces(std::move(pieces), link_distance, join_distance);
   for (auto& br : branches) found.push_back(std::move(br));
   double longest = 0.0;

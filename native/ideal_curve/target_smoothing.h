@@ -39,22 +39,6 @@ class TargetSmoother {
   // face's own target.
   Normals smooth(const Normals& targets, const Eigen::VectorXd& areas, int rounds) const;
 
-  // `rounds` passes of averaging each target with those of the faces of its
-  // neighbourhood that lie along its ruling (issue 11). A developable
-  // surface's normal is constant along its rulings, while projecting noisy
-  // normals onto the ideal curve keeps all of their error along the curve;
-  // averaging along the rulings removes it without blurring across them.
-  // The ruling of face f is t x T, t its target and T the curve's direction
-  // at t, estimated from the neighbourhood's targets (they lie on the curve,
-  // so their differences run along it). A neighbour g weighs area_g a^8, a =
-  // |cos| of the angle between the centroid offset c_g - c_f and the ruling,
-  // and 0 when its target is more than kSameCurveAngle from f's (another
-  // curve piece or across a crease). Where the neighbourhood's targets agree
-  // (no direction), the target stays.
-  //   targets: unit per face; positions: the mesh's; areas: per face, > 0.
-  Normals smooth_along_rulings(const Normals& targets, const Positions& positions, const Triangles& triangles,
-                               const Eigen::VectorXd& areas, int rounds) const;
-
  private:
   // Face f's neighbourhood is neighbours_[offsets_[f] .. offsets_[f + 1]).
   std::vector<size_t> offsets_;

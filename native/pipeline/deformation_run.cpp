@@ -130,10 +130,10 @@ void DeformationRun::iterate(Judge& judge, Choice& choice, const Progress& progr
     targets_ahead = refit && iteration < options.max_iterations;
     if (targets_ahead) {
       run_concurrently({[&](const Progress&) { targets_.update(current, normals, iteration + 1); },
-                        [&](const Progress&) { now = judge.measure(current, normals); }},
+                        [&](const Progress&) { now = judge.measure(current, normals, false); }},
                        score_threads, progress);
     } else {
-      now = judge.measure(current, normals);
+      now = judge.measure(current, normals, false);
     }
     if (judge.admissible(now) && now.figures.score < choice.best_score) {
       choice.keep(current, now, ResultOrigin::deformation);

@@ -40,15 +40,16 @@ Motion motion_of(const Positions& positions, const Positions& input) {
 }
 
 Judge::Judge(const Triangles& triangles, const std::vector<bool>& interior, const Normals& input_normals,
-             IterateScore score, Measured input, bool closed)
+             IterateScore score, Measured input, bool closed, CreaseGuard crease_guard)
     : triangles_(triangles),
       interior_(interior),
       input_normals_(input_normals),
       score_(std::move(score)),
       input_(std::move(input)),
-      closed_(closed) {}
+      closed_(closed),
+      crease_guard_(std::move(crease_guard)) {}
 
-Measured Judge::measure(const Positions& positions, const Normals& normals) const {
+Measured Judge::measure(const Positions& positions, const Normals& normals, bool creases) const {
   Measured m;
   m.defects = angle_defects(positions, triangles_, interior_);
   const DefectStats stats = defect_stats(m.defects, interior_);
@@ -57,6 +58,7 @@ Measured Judge::measure(const Positions& positions, const Normals& normals) cons
   m.figures.flat = flat_share(m.defects, interior_);
   m.figures.turned = static_cast<Eigen::Index>(turned_over_faces(normals, input_normals_).size());
   m.figures.score = score_(m.defects);
+  if (creases) m.figures.creased = static_cast<Eigen::Index>(crease_guard_.creased_faces(normals).size());
   return m;
 }
 

@@ -51,20 +51,19 @@ struct Measured {
 class Judge {
  public:
   // input: the input's defects and figures (score by `score`); closed: the
-  // mesh has no boundary (admit). The references must outlive this.
+  // mesh has no boundary (admit); crease_guard: the run's (its patches and
+  // growth). The references must outlive this.
   Judge(const Triangles& triangles, const std::vector<bool>& interior, const Normals& input_normals, IterateScore score,
-        Measured input, bool closed);
+        Measured input, bool closed, CreaseGuard crease_guard);
 
-  // The defects and figures of `positions` (face normals `normals`).
-  Measured measure(const Positions& positions, const Normals& normals) const;
+  // The defects and figures of `positions` (face normals `normals`); with
+  // `creases` the faces the crease guard finds creased (the deformation's
+  // fold-safe steps crease nothing by construction: its iterates skip it).
+  Measured measure(const Positions& positions, const Normals& normals, bool creases = true) const;
 
   // Whether a measured candidate may be returned (admit); the reasons of one
   // that scored better than the input but may not are kept.
   bool admissible(const Measured& candidate);
-
-  // A candidate that creased the surface inside a patch where no crease
-  // guard held it (the polish of a segmented input) and is not kept.
-  void reject_creased() { ++rejected_.creased; }
 
   const Measured& input() const { return input_; }
   const IterateScore& score() const { return score_; }
@@ -77,6 +76,7 @@ class Judge {
   IterateScore score_;
   Measured input_;
   bool closed_;
+  CreaseGuard crease_guard_;
   Rejections rejected_;
 };
 

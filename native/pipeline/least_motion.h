@@ -4,9 +4,9 @@
 // patch the input projected onto developable meshes from its smoothing
 // without the feature guard. Where the fitted curves flatten a wavy shape,
 // the deformation moves it far more than the noise, a polish of the input
-// only about the noise: of the results as developable as the run's choice
-// (as_developable) the one that moved the input least is returned, if its
-// normals are smooth enough (smooth_enough).
+// only about the noise: with the deformation's own result they go to the
+// order (select in selection.h), which returns the one that moved the input
+// least of those as developable as the most developable.
 #pragma once
 
 #include "pipeline/deformation_run.h"
@@ -18,15 +18,19 @@
 
 namespace developable {
 
-// Runs the candidates against the run's choice and keeps the winners.
+// Runs the candidates, the deformation's result (`choice`, after its own
+// polish) among them, and makes the order's winner the choice.
 //   polish_choice: the choice's own polish (polish_choice), run here beside
 //   the polish of the input, which does not depend on it;
 //   deformation: the run's, for the smoothed start's step; deformed: whether
 //   the deformation improved the input (else only the polish of the input
 //   and the projected start compete).
-// Each polish is the same whatever thread runs it, and each is judged, in
-// the order above, once it has run, so the result does not depend on the
-// thread count.
+// A candidate that cannot win is not polished, or gives up: one that starts
+// (or, at any step, is) farther (RMS) from the input than the winner so far
+// (the order's winner grows no farther as candidates join, unless one more
+// developable than its anchor changes the anchor). Each polish is the same
+// whatever thread runs it, and the order does not depend on the order the
+// candidates come in, so the result does not depend on the thread count.
 void compete_least_motion(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
                           const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
                           const Progress& progress);

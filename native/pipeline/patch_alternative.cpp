@@ -25,7 +25,8 @@ Judge judge_of(const PatchRun& run) {
   measured.figures.mean = input.before.mean_abs;
   measured.figures.max = input.before.max_abs;
   measured.figures.score = score(measured.defects);
-  return Judge(input.triangles, input.measured.interior, input.normals, score, std::move(measured), input.closed);
+  return Judge(input.triangles, input.measured.interior, input.normals, score, std::move(measured), input.closed,
+               CreaseGuard(input.triangles, input.normals, run.patch_ids, run.crease_growth));
 }
 
 // A mesh made of planes, cylinders and cones, its curvature on the seams
@@ -114,16 +115,7 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
   result.curves = deformation.chosen_curves();
   result.target_normals = deformation.chosen_targets();
 
-  // The score may fall where no figure the user sees moves: on a segmented
-  // mesh it is the median inside the patches, which the apex of a capped
-  // cone or a cylinder's rims can lower by moving 1 % of the size while no
-  // vertex becomes flat and the mean |defect| stays (Gauss-Bonnet). Such a
-  // result moved the mesh for nothing: the input is returned instead.
   Rejections rejected = judge.rejected();
-  if (choice.improved && !visible_gain(choice.measured.figures, judge.input().figures)) {
-    rejected.no_visible_gain = true;
-    choice = Choice::input(input, judge.input());
-  }
   if (!choice.improved && run.piecewise) rejected.developable_patches = developable_as_split(run);
   finish(run, choice, unchanged_reason(rejected, stats.flat_share_before), rejected, result, progress);
   return result;

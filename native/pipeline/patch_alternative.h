@@ -1,7 +1,8 @@
 // One patch alternative of a run, from its candidates to its result: the
 // deformation (paper, stages 6-7) and its polish (stage 8), least motion's
-// candidates, each held to the admissibility rule; the choice they leave, or
-// the input when none was admissible and better (with the reason).
+// candidates, each held to the admissibility rule and ordered by select
+// (selection.h); the winner, or the input when none was admissible (with
+// the reason).
 #pragma once
 
 #include "core/types.h"
@@ -13,10 +14,9 @@ namespace developable {
 
 // The result of `input` on `patches`: its mesh, figures, curves and stats.
 // Patches marked developable (developable_pieces.h) and an input under
-// options.developable_threshold come back unchanged at once. A result that
-// shows no gain a user sees (visible_gain) is dropped for the input; an
-// unchanged segmented input whose patches are each flat inside and fit their
-// cones is "developable piecewise". Throws what the stages throw
+// options.developable_threshold come back unchanged at once; an unchanged
+// segmented input whose patches are each flat inside and fit their cones is
+// "developable piecewise". Throws what the stages throw
 // (cancelled, numerical_failure).
 PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches, const Progress& progress);
 

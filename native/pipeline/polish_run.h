@@ -28,9 +28,6 @@ struct PolishPlan {
   // Whether least motion's candidates compete: one patch, or pieces whose
   // deformation improved the input, up to kLeastMoveVertices scored vertices.
   bool least_motion = false;
-  // The crease check of a closed segmented input's polish, which no crease
-  // guard holds (inactive elsewhere).
-  CreaseGuard unguarded_check;
 };
 
 // The polishes of `run` after a deformation that `deformed` (improved) the

@@ -1,14 +1,18 @@
 #include "pipeline/selection.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace developable {
 
 Admission admit(const Figures& candidate, const Figures& input, bool closed) {
   Admission a;
   a.folded = candidate.turned > 0;
+  a.creased = candidate.creased > 0;
   a.defect_grew = candidate.mean > input.mean * (closed ? 1.0 + kClosedMeshGrowth : 1.0);
   a.flat_share_fell = candidate.flat < input.flat;
+  a.no_score_gain = !(candidate.score < (1.0 - kLeastGain) * input.score);
+  a.no_visible_gain = !visible_gain(candidate, input);
   return a;
 }
 
@@ -16,26 +20,48 @@ bool visible_gain(const Figures& result, const Figures& input) {
   return result.flat > input.flat || result.mean < (1.0 - kLeastGain) * input.mean;
 }
 
-bool as_developable(const Figures& candidate, const Figures& current, const Figures& input) {
-  return candidate.flat >= current.flat - kFlatSlack && candidate.mean <= current.mean + kDefectSlack * input.mean &&
-         candidate.max <= std::max(current.max, input.max);
+bool as_developable(const Figures& candidate, const Figures& other, const Figures& input) {
+  return candidate.flat >= other.flat - kFlatSlack && candidate.mean <= other.mean + kDefectSlack * input.mean &&
+         candidate.max <= allowed_largest_defect(other.max, input.max);
 }
 
-double allowed_largest_defect(double competing, double input) {
-  return (1.0 + kLargestDefectGrowth) * std::max(competing, input);
+double allowed_largest_defect(double other, double input) {
+  return (1.0 + kLargestDefectGrowth) * std::max(other, input);
 }
 
-bool moves_less(const Motion& candidate, const Motion& current, bool at_most_as_far) {
-  return candidate.rms < current.rms && (!at_most_as_far || candidate.largest <= current.largest);
+bool more_developable(const Figures& a, const Figures& b) {
+  return a.flat > b.flat || (a.flat == b.flat && a.mean < b.mean);
 }
+
+bool moves_less(const Motion& candidate, const Motion& other) { return candidate.rms < other.rms; }
 
 bool smooth_enough(double roughness, double reference) { return roughness <= kLeastMoveRoughness * reference; }
 
-bool more_developable(const PipelineStats& a, const PipelineStats& b) {
-  if (a.result != b.result) return a.result == ResultKind::improved;
-  return a.flat_share_after >= b.flat_share_after && a.mean_defect_after <= b.mean_defect_after &&
-         (a.flat_share_after > b.flat_share_after || a.mean_defect_after < b.mean_defect_after) &&
-         a.max_defect_after <= allowed_largest_defect(b.max_defect_after, a.max_defect_before);
+int select(const std::vector<Contestant>& contestants, const Figures& input, double reference_roughness) {
+  const int count = static_cast<int>(contestants.size());
+  double nearest = std::numeric_limits<double>::infinity();  // the smallest largest move of the others
+  for (const Contestant& c : contestants)
+    if (!c.at_most_as_far && smooth_enough(c.roughness, reference_roughness))
+      nearest = std::min(nearest, c.motion.largest);
+  const auto takes_part = [&](int i) {
+    const Contestant& c = contestants[static_cast<size_t>(i)];
+    return smooth_enough(c.roughness, reference_roughness) && (!c.at_most_as_far || c.motion.largest <= nearest);
+  };
+  int anchor = -1;
+  for (int i = 0; i < count; ++i)
+    if (takes_part(i) && (anchor < 0 || more_developable(contestants[static_cast<size_t>(i)].figures,
+                                                         contestants[static_cast<size_t>(anchor)].figures)))
+      anchor = i;
+  if (anchor < 0) return -1;
+  const Contestant& a = contestants[static_cast<size_t>(anchor)];
+  int winner = anchor;
+  for (int i = 0; i < count; ++i) {
+    const Contestant& c = contestants[static_cast<size_t>(i)];
+    if (i != anchor && takes_part(i) && as_developable(c.figures, a.figures, input) &&
+        moves_less(c.motion, contestants[static_cast<size_t>(winner)].motion))
+      winner = i;
+  }
+  return winner;
 }
 
 void Rejections::record(const Admission& admission, double score, double input_score, Eigen::Index turned) {
@@ -44,13 +70,17 @@ void Rejections::record(const Admission& admission, double score, double input_s
     ++folded;
     if (fewest_turned_over < 0 || turned < fewest_turned_over) fewest_turned_over = turned;
   }
+  if (admission.creased) ++creased;
   if (admission.defect_grew) ++defect_grew;
   if (admission.flat_share_fell) ++flat_share_fell;
+  if (admission.no_visible_gain && !admission.no_score_gain && !admission.folded && !admission.creased &&
+      !admission.defect_grew && !admission.flat_share_fell)
+    ++no_visible_gain;
 }
 
 UnchangedReason unchanged_reason(const Rejections& r, double flat_share_before) {
   if (r.developable_patches) return UnchangedReason::developable_piecewise;
-  if (r.no_visible_gain) return UnchangedReason::no_visible_gain;
+  if (r.no_visible_gain > 0) return UnchangedReason::no_visible_gain;
   if (r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0 && r.creased == 0)
     return flat_share_before >= 1.0 ? UnchangedReason::already_flat : UnchangedReason::no_better_iterate;
   return UnchangedReason::rejected;

@@ -1,15 +1,18 @@
-// What a run may return, and which of its candidates it returns: pure rules
-// on the figures of candidate meshes, no mesh needed (tests/unit/
-// selection_test.cpp holds every slack and ordering). A candidate is a mesh
-// one of the generators made (the deformation and its polish, least motion's
-// polishes; ResultOrigin); the plan's patch alternatives are compared by
-// more_developable. docs/method.md, "The rule", has the measurements behind
-// each slack.
+// What a run may return, and which of its candidates it returns: one
+// admissibility rule and one order, pure functions on the figures of
+// candidate meshes (tests/unit/selection_test.cpp holds every slack and
+// order). A candidate is a mesh one of the generators made: the deformation
+// and its polish (one generator), least motion's polishes of the input and
+// of its smoothings (ResultOrigin); the plan's patch alternatives compete
+// with the same order. docs/method.md, "The rule", has the measurements
+// behind each slack.
 #pragma once
 
 #include "pipeline/run_result.h"
 
 #include <Eigen/Core>
+
+#include <vector>
 
 namespace developable {
 
@@ -25,15 +28,16 @@ inline constexpr double kClosedMeshGrowth = 0.05;
 // while its largest |defect| grew).
 inline constexpr double kLeastGain = 1e-6;
 
-// "As developable" (as_developable): a flat share at most this much lower,
-// a mean |defect| at most this fraction of the input's mean higher (else
-// fish_low_resolution would trade -10.5 % for +1.7 %).
+// "As developable" (as_developable): a flat share at most kFlatSlack lower,
+// a mean |defect| at most kDefectSlack of the input's mean higher (else
+// fish_low_resolution would trade -10.5 % for +1.7 %), a largest |defect|
+// at most kLargestDefectGrowth above the larger of the other's and the
+// input's: on a closed object that largest |defect| sits on a seam the
+// curvature gathered on (human_woman: 8 rad, twice the input's); held to no
+// growth at all, its nearly flat polish was kept or thrown away on rounding
+// (moved by 1e-7 of its coordinates it came back 43 % flat instead of 57 %).
 inline constexpr double kFlatSlack = 0.01;
 inline constexpr double kDefectSlack = 0.01;
-
-// A second try (the nearly flat polish, the second opinion's one-patch run)
-// may end with a largest |defect| this fraction above the larger of the
-// result it competes with and the input's (allowed_largest_defect).
 inline constexpr double kLargestDefectGrowth = 0.05;
 
 // Least motion prefers a candidate whose normals are at most this much
@@ -44,44 +48,58 @@ inline constexpr double kLeastMoveRoughness = 1.25;
 
 // What the rule reads of a candidate mesh, measured against the user's input.
 struct Figures {
-  double flat = 0.0;        // share of the interior vertices with |defect| < kFlatDefect, 0..1
-  double mean = 0.0;        // mean |defect| over the interior (rad)
-  double max = 0.0;         // largest |defect| over the interior (rad)
-  double score = 0.0;       // the run's score (IterateScore, rad): lower is better
-  Eigen::Index turned = 0;  // faces turned over against the input's normals
+  double flat = 0.0;         // share of the interior vertices with |defect| < kFlatDefect, 0..1
+  double mean = 0.0;         // mean |defect| over the interior (rad)
+  double max = 0.0;          // largest |defect| over the interior (rad)
+  double score = 0.0;        // the run's score (IterateScore, rad): lower is better
+  Eigen::Index turned = 0;   // faces turned over against the input's normals
+  Eigen::Index creased = 0;  // faces of edges inside a patch creased beyond the crease guard
 };
 
 // Which admissibility conditions a candidate breaks.
 struct Admission {
   bool folded = false;           // a face turned over
+  bool creased = false;          // an edge inside a patch creased beyond the crease guard
   bool defect_grew = false;      // mean |defect| above the input's (beyond kClosedMeshGrowth on a closed mesh)
   bool flat_share_fell = false;  // fewer flat vertices than the input
-  bool ok() const { return !folded && !defect_grew && !flat_share_fell; }
+  bool no_score_gain = false;    // no score kLeastGain below the input's
+  bool no_visible_gain = false;  // no gain a user sees (visible_gain)
+  bool ok() const {
+    return !folded && !creased && !defect_grew && !flat_share_fell && !no_score_gain && !no_visible_gain;
+  }
 };
 
-// The admissibility rule: a candidate may be returned only if no figure the
-// user sees is worse than the input's: no face turned over, the mean
-// |defect| not above the input's (a closed mesh's up to kClosedMeshGrowth
-// above), the flat share not below it. (Every generator keeps its vertices
-// within the move limit and, where a crease guard holds, its patches
-// uncreased; the generators check those themselves.)
+// The admissibility rule: a candidate may be returned only if it turns no
+// face over, creases no edge inside a patch (beyond the run's crease guard),
+// shows no figure the user sees worse than the input's (the mean |defect|
+// not above the input's, a closed mesh's up to kClosedMeshGrowth above; the
+// flat share not below it), and gains: a score at least kLeastGain below the
+// input's and a visible_gain. (Every generator keeps its vertices within the
+// move limit by construction, and the fold-safe step and the guarded
+// polishes their patches uncreased.)
 Admission admit(const Figures& candidate, const Figures& input, bool closed);
 
 // Whether a result shows its gain on a figure the user sees: more flat
 // vertices, or a mean |defect| lower by kLeastGain of the input's. The score
-// may fall where neither moves (a segmented mesh's median inside the
-// patches: a capped cone's apex moved, no vertex flat).
+// may fall where neither moves: on a segmented mesh it is the median inside
+// the patches, which the apex of a capped cone or a cylinder's rims can
+// lower by moving 1 % of the size while no vertex becomes flat and the mean
+// |defect| stays (Gauss-Bonnet); such a result would move the mesh for
+// nothing.
 bool visible_gain(const Figures& result, const Figures& input);
 
-// Whether `candidate` is as developable as `current`, both results of one
+// Whether `candidate` is as developable as `other`, both results of one
 // input: its flat share at most kFlatSlack lower, its mean |defect| at most
-// kDefectSlack of the input's mean higher, its largest |defect| no larger
-// than both current's and the input's.
-bool as_developable(const Figures& candidate, const Figures& current, const Figures& input);
+// kDefectSlack of the input's mean higher, its largest |defect| within
+// allowed_largest_defect of other's and the input's.
+bool as_developable(const Figures& candidate, const Figures& other, const Figures& input);
 
-// The largest |defect| a second try may end with: kLargestDefectGrowth above
-// the larger of the result it competes with and the input's.
-double allowed_largest_defect(double competing, double input);
+// The largest |defect| a candidate as developable as another may have:
+// kLargestDefectGrowth above the larger of the other's and the input's.
+double allowed_largest_defect(double other, double input);
+
+// The developability order: more flat vertices, then a lower mean |defect|.
+bool more_developable(const Figures& a, const Figures& b);
 
 // How far a candidate moved the input: RMS over the vertices, and its
 // largest vertex move (caller's units).
@@ -89,32 +107,47 @@ struct Motion {
   double rms = 0.0, largest = 0.0;
 };
 
-// Least motion's order: whether `candidate` moved the input less than
-// `current` (RMS), and, with `at_most_as_far`, no vertex farther than
-// current's largest move.
-bool moves_less(const Motion& candidate, const Motion& current, bool at_most_as_far);
+// Least motion's order: whether `candidate` moved the input less (RMS) than `other`.
+bool moves_less(const Motion& candidate, const Motion& other);
 
 // Whether normals of roughness `roughness` (normal_roughness, rad) are smooth
 // enough against `reference`: at most kLeastMoveRoughness times it.
 bool smooth_enough(double roughness, double reference);
 
-// Of two results of one input (their stats), whether `a` is the more
-// developable: an improved result beats the input returned unchanged; of two
-// improved ones `a` needs a flat share and a mean |defect| both at least as
-// good as `b`'s, one of them better, and a largest |defect| within
-// allowed_largest_defect of `b`'s and the input's.
-bool more_developable(const PipelineStats& a, const PipelineStats& b);
+// An admissible candidate as the order sees it.
+struct Contestant {
+  Figures figures;
+  Motion motion;           // from the input
+  double roughness = 0.0;  // normal_roughness of its faces (rad)
+  // It must also move no vertex farther than every other contestant (least
+  // motion's projected candidate: the smoothing it starts from may cut a
+  // crease, which the projection does not restore, and its largest move
+  // shows it).
+  bool at_most_as_far = false;
+};
+
+// The order, in three steps. The contestants take part whose normals are
+// smooth enough against `reference_roughness` (smooth_enough; the caller's:
+// the deformation's result's, whose steps take the noise off the normals,
+// or the smoothed shape's where higher) and, marked at_most_as_far, whose
+// largest move is no larger than every other's taking part; the most
+// developable of them is the anchor (more_developable; the first of equals);
+// of those as developable as the anchor the one that moved the input least
+// (RMS) wins, the anchor on a tie, else the first. It does not depend on the
+// order the contestants come in but for ties. Returns the winner's index; -1
+// when none takes part.
+int select(const std::vector<Contestant>& contestants, const Figures& input, double reference_roughness);
 
 // Why candidates better than the input were not returned, counted as they
 // are judged: the reasons an unchanged run's message names.
 struct Rejections {
   int folded = 0, defect_grew = 0, flat_share_fell = 0;
-  // A polish of a segmented input (not crease-guarded) creased an edge
-  // inside a patch.
   int creased = 0;
   Eigen::Index fewest_turned_over = -1;
-  // The best result made no vertex flat and did not lower the mean |defect|.
-  bool no_visible_gain = false;
+  // Candidates that broke nothing but showed no gain a user sees (their
+  // score fell by kLeastGain, no vertex became flat and the mean |defect|
+  // stayed).
+  int no_visible_gain = 0;
   // Every patch is developable as it stands: nothing was there to gain.
   bool developable_patches = false;
 

@@ -79,7 +79,7 @@ TEST(IdealCurve, Refusals) {
   EXPECT_THROW(fit_ideal_curves(Normals(0, 3), Eigen::VectorXd(0), {}), EngineError);
   EXPECT_THROW(fit_ideal_curves(Normals::Zero(4, 3), Eigen::VectorXd::Ones(4), {}), EngineError);
   IdealCurveOptions bad;
-  bad.samples_per_curve = 1;
+  bad.grid_resolution = 8;
   EXPECT_THROW(fit_ideal_curves(image.normals, image.weights, bad), EngineError);
 }
 

@@ -1,6 +1,6 @@
-// selection.h: the admissibility rule and the orders between candidates, on
-// synthetic figures (no mesh). Each test names the slack or ordering it
-// holds; changing one makes it fail.
+// selection.h: the admissibility rule and the order between candidates, on
+// synthetic figures (no mesh). Each test names the slack or order it holds;
+// changing one makes it fail.
 #include "pipeline/selection.h"
 
 #include <gtest/gtest.h>
@@ -20,17 +20,26 @@ Figures figures(double flat, double mean, double max, double score = 0.0, Eigen:
 
 const Figures kInput = figures(0.2, 0.01, 0.5, 0.01);
 
-// No face turned over, the mean |defect| not above the input's (a closed
-// mesh's up to 5 % above), the flat share not below it.
-TEST(Selection, AdmitHoldsEveryFigureTheUserSeesToTheInput) {
-  EXPECT_TRUE(admit(figures(0.2, 0.01, 9.0), kInput, false).ok());  // equal is enough; max is not held
-  const Admission folded = admit(figures(0.9, 0.001, 0.1, 0.0, 1), kInput, false);
-  EXPECT_TRUE(folded.folded && !folded.defect_grew && !folded.flat_share_fell);
-  EXPECT_TRUE(admit(figures(0.9, 0.0101, 0.1), kInput, false).defect_grew);
-  EXPECT_TRUE(admit(figures(0.19, 0.001, 0.1), kInput, false).flat_share_fell);
+// No face turned over, no crease, the mean |defect| not above the input's (a
+// closed mesh's up to 5 % above), the flat share not below it, a gain.
+TEST(Selection, AdmitHoldsEveryFigureTheUserSeesToTheInputAndWantsAGain) {
+  EXPECT_TRUE(admit(figures(0.21, 0.01, 9.0, 0.001), kInput, false).ok());  // the largest |defect| is not held
+  const Admission folded = admit(figures(0.9, 0.001, 0.1, 0.001, 1), kInput, false);
+  EXPECT_TRUE(folded.folded && !folded.creased && !folded.defect_grew && !folded.flat_share_fell &&
+              !folded.no_score_gain && !folded.no_visible_gain);
+  Figures creased = figures(0.9, 0.001, 0.1, 0.001);
+  creased.creased = 2;
+  EXPECT_TRUE(admit(creased, kInput, false).creased);
+  EXPECT_TRUE(admit(figures(0.9, 0.0101, 0.1, 0.001), kInput, false).defect_grew);
+  EXPECT_TRUE(admit(figures(0.19, 0.001, 0.1, 0.001), kInput, false).flat_share_fell);
   // kClosedMeshGrowth: 5 % more mean |defect| on a closed mesh, not 5.1 %.
-  EXPECT_TRUE(admit(figures(0.9, 0.0105, 0.1), kInput, true).ok());
-  EXPECT_TRUE(admit(figures(0.9, 0.01051, 0.1), kInput, true).defect_grew);
+  EXPECT_TRUE(admit(figures(0.9, 0.0105, 0.1, 0.001), kInput, true).ok());
+  EXPECT_TRUE(admit(figures(0.9, 0.01051, 0.1, 0.001), kInput, true).defect_grew);
+  // The gain: a score kLeastGain (1e-6) below the input's, and a visible one.
+  EXPECT_TRUE(admit(figures(0.9, 0.001, 0.1, 0.01 * (1 - 0.5e-6)), kInput, false).no_score_gain);
+  EXPECT_FALSE(admit(figures(0.9, 0.001, 0.1, 0.01 * (1 - 2e-6)), kInput, false).no_score_gain);
+  const Admission score_only = admit(figures(0.2, 0.01, 0.1, 0.001), kInput, false);  // the score alone is no gain
+  EXPECT_TRUE(score_only.no_visible_gain && !score_only.no_score_gain && !score_only.ok());
 }
 
 // A gain the user sees: more flat vertices, or a mean |defect| lower by a
@@ -39,68 +48,94 @@ TEST(Selection, VisibleGainIsMoreFlatVerticesOrALowerMean) {
   EXPECT_TRUE(visible_gain(figures(0.21, 0.01, 0.5), kInput));
   EXPECT_TRUE(visible_gain(figures(0.2, 0.01 * (1 - 2e-6), 0.5), kInput));
   EXPECT_FALSE(visible_gain(figures(0.2, 0.01 * (1 - 0.5e-6), 0.5), kInput));
-  EXPECT_FALSE(visible_gain(figures(0.2, 0.01, 0.1, 0.001), kInput));  // the score alone is no gain
 }
 
 // As developable: a flat share at most kFlatSlack (1 point) lower, a mean at
-// most kDefectSlack (1 %) of the input's mean higher, a largest |defect| no
-// larger than both the other's and the input's.
-TEST(Selection, AsDevelopableAllowsOnePointOfFlatShareAndOnePercentOfTheInputsMean) {
-  const Figures current = figures(0.90, 0.002, 0.3);
-  EXPECT_TRUE(as_developable(figures(0.89, 0.002 + 0.0001, 0.3), current, kInput));
-  EXPECT_FALSE(as_developable(figures(0.889, 0.002, 0.3), current, kInput));
-  EXPECT_FALSE(as_developable(figures(0.95, 0.002 + 0.000101, 0.3), current, kInput));
-  EXPECT_TRUE(as_developable(figures(0.95, 0.001, 0.5), current, kInput));  // the input's largest bounds
-  EXPECT_FALSE(as_developable(figures(0.95, 0.001, 0.51), current, kInput));
+// most kDefectSlack (1 %) of the input's mean higher, a largest |defect| at
+// most 5 % above the larger of the other's and the input's.
+TEST(Selection, AsDevelopableAllowsOnePointOfFlatShareOnePercentOfTheMeanFivePercentOfTheLargest) {
+  const Figures other = figures(0.90, 0.002, 0.6);
+  EXPECT_TRUE(as_developable(figures(0.89, 0.002 + 0.0001, 0.6), other, kInput));
+  EXPECT_FALSE(as_developable(figures(0.889, 0.002, 0.6), other, kInput));
+  EXPECT_FALSE(as_developable(figures(0.95, 0.002 + 0.000101, 0.6), other, kInput));
+  EXPECT_TRUE(as_developable(figures(0.95, 0.001, 0.63), other, kInput));
+  EXPECT_FALSE(as_developable(figures(0.95, 0.001, 0.631), other, kInput));
+  const Figures small = figures(0.90, 0.002, 0.1);  // the input's largest (0.5) bounds
+  EXPECT_TRUE(as_developable(figures(0.95, 0.001, 0.525), small, kInput));
+  EXPECT_FALSE(as_developable(figures(0.95, 0.001, 0.526), small, kInput));
   // Not symmetric: the other way round the slack is the other's.
-  EXPECT_TRUE(as_developable(current, figures(0.905, 0.002, 0.3), kInput));
+  EXPECT_TRUE(as_developable(other, figures(0.905, 0.002, 0.6), kInput));
+  EXPECT_FALSE(as_developable(figures(0.905, 0.002, 0.6), figures(0.92, 0.002, 0.6), kInput));
 }
 
-// A second try's largest |defect|: 5 % above the larger of the competing and
-// the input's.
 TEST(Selection, AllowedLargestDefectIsFivePercentAboveTheLarger) {
   EXPECT_DOUBLE_EQ(allowed_largest_defect(2.0, 1.0), 2.1);
   EXPECT_DOUBLE_EQ(allowed_largest_defect(1.0, 2.0), 2.1);
 }
 
-// Least motion: less RMS motion, and with at_most_as_far no vertex farther.
-TEST(Selection, MovesLessComparesTheRmsMotionAndOptionallyTheLargest) {
-  const Motion current{1.0, 3.0};
-  EXPECT_TRUE(moves_less({0.9, 5.0}, current, false));
-  EXPECT_FALSE(moves_less({0.9, 5.0}, current, true));
-  EXPECT_TRUE(moves_less({0.9, 3.0}, current, true));
-  EXPECT_FALSE(moves_less({1.0, 1.0}, current, false));  // strictly less
+// The developability order: the flat share first, then the mean |defect|.
+TEST(Selection, MoreDevelopableIsMoreFlatVerticesThenALowerMean) {
+  EXPECT_TRUE(more_developable(figures(0.91, 0.5, 9.0), figures(0.90, 0.001, 0.1)));
+  EXPECT_TRUE(more_developable(figures(0.90, 0.0009, 9.0), figures(0.90, 0.001, 0.1)));
+  EXPECT_FALSE(more_developable(figures(0.90, 0.001, 0.1), figures(0.90, 0.001, 0.1)));
 }
 
-// Normals at most kLeastMoveRoughness (1.25) times as rough as the reference.
+TEST(Selection, MovesLessComparesTheRmsMotion) {
+  EXPECT_TRUE(moves_less({0.9, 5.0}, {1.0, 3.0}));
+  EXPECT_FALSE(moves_less({1.0, 1.0}, {1.0, 3.0}));  // strictly less; the largest move does not count
+}
+
 TEST(Selection, SmoothEnoughIsAtMostAQuarterRougher) {
   EXPECT_TRUE(smooth_enough(1.25, 1.0));
   EXPECT_FALSE(smooth_enough(1.2501, 1.0));
 }
 
-PipelineStats stats(ResultKind result, double flat, double mean, double max, double max_before = 1.0) {
-  PipelineStats s;
-  s.result = result;
-  s.flat_share_after = flat;
-  s.mean_defect_after = mean;
-  s.max_defect_after = max;
-  s.max_defect_before = max_before;
-  return s;
+Contestant contestant(double flat, double mean, double max, double rms, double largest, double roughness,
+                      bool at_most_as_far = false) {
+  Contestant c;
+  c.figures = figures(flat, mean, max);
+  c.motion = {rms, largest};
+  c.roughness = roughness;
+  c.at_most_as_far = at_most_as_far;
+  return c;
 }
 
-// Of two alternatives: improved beats unchanged; else both flat share and
-// mean at least as good, one better, the largest within 5 % of the larger of
-// the other's and the input's.
-TEST(Selection, MoreDevelopableNeedsBothFiguresAtLeastAsGoodAndOneBetter) {
-  const PipelineStats unchanged = stats(ResultKind::unchanged, 0.9, 0.001, 0.1);
-  const PipelineStats improved = stats(ResultKind::improved, 0.5, 0.01, 0.5);
-  EXPECT_TRUE(more_developable(improved, unchanged));
-  EXPECT_FALSE(more_developable(unchanged, improved));
-  const PipelineStats b = stats(ResultKind::improved, 0.8, 0.002, 1.0);
-  EXPECT_TRUE(more_developable(stats(ResultKind::improved, 0.8, 0.0019, 1.05), b));
-  EXPECT_FALSE(more_developable(stats(ResultKind::improved, 0.8, 0.0019, 1.051), b));
-  EXPECT_FALSE(more_developable(stats(ResultKind::improved, 0.8, 0.002, 1.0), b));   // nothing better
-  EXPECT_FALSE(more_developable(stats(ResultKind::improved, 0.9, 0.0021, 1.0), b));  // one worse
+// The order: of the contestants smooth enough against the reference, the
+// anchor is the most developable; of those as developable as it the one that
+// moved least wins; it does not depend on the order they come in.
+TEST(Selection, SelectReturnsTheLeastMovingOfThoseAsDevelopableAsTheMostDevelopable) {
+  const double reference = 0.010;
+  EXPECT_EQ(select({}, kInput, reference), -1);
+  const Contestant deformed = contestant(0.99, 1e-5, 0.1, 2.0, 6.0, 0.010);
+  const Contestant polished_input = contestant(0.985, 2e-5, 0.1, 1.0, 4.0, 0.012);
+  const Contestant rough = contestant(0.99, 1e-5, 0.1, 0.5, 2.0, 0.013);      // 1.3 times the reference
+  const Contestant less_flat = contestant(0.97, 1e-5, 0.1, 0.1, 1.0, 0.010);  // 2 points below the anchor
+  EXPECT_EQ(select({deformed, polished_input}, kInput, reference), 1);
+  EXPECT_EQ(select({polished_input, deformed}, kInput, reference), 0);
+  EXPECT_EQ(select({deformed, rough}, kInput, reference), 0);
+  EXPECT_EQ(select({deformed, rough}, kInput, 0.011), 1);
+  EXPECT_EQ(select({rough}, kInput, reference), -1);  // too rough to take part at all
+  EXPECT_EQ(select({deformed, less_flat}, kInput, reference), 0);
+  EXPECT_EQ(select({less_flat, deformed}, kInput, reference), 1);
+  // A rough contestant is not the anchor, however developable.
+  EXPECT_EQ(select({less_flat, contestant(1.0, 0.0, 0.1, 3.0, 6.0, 0.02)}, kInput, reference), 0);
+  // A chain does not drift: c is as developable as b, b as a, but c is not as
+  // developable as a, the anchor.
+  const Contestant a = contestant(0.995, 1e-5, 0.1, 3.0, 6.0, 0.01);
+  const Contestant b = contestant(0.988, 1e-5, 0.1, 2.0, 6.0, 0.01);
+  const Contestant c = contestant(0.980, 1e-5, 0.1, 1.0, 6.0, 0.01);
+  EXPECT_EQ(select({a, b, c}, kInput, reference), 1);
+  EXPECT_EQ(select({c, b, a}, kInput, reference), 1);
+  // at_most_as_far: no vertex farther than every other contestant's farthest.
+  const Contestant projected = contestant(0.99, 1e-6, 0.1, 1.0, 5.0, 0.01, true);
+  EXPECT_EQ(select({deformed, projected}, kInput, reference), 1);
+  EXPECT_EQ(select({deformed, polished_input, projected}, kInput, reference), 1);  // 5 > 4: out, polished_input wins
+  EXPECT_EQ(select({deformed, contestant(0.99, 1e-6, 0.1, 0.5, 4.0, 0.01, true), polished_input}, kInput, reference),
+            1);  // 4 is no farther: it takes part, and moved least
+  // Ties in motion go to the anchor, then to the first.
+  EXPECT_EQ(select({contestant(0.98, 1e-5, 0.1, 1.0, 1.0, 0.01), deformed, contestant(0.99, 1e-5, 0.1, 1.0, 1.0, 0.01)},
+                   kInput, reference),
+            0);
 }
 
 // Rejections count only candidates that scored better than the input; the
@@ -115,24 +150,33 @@ TEST(Selection, RejectionsAndTheUnchangedReason) {
   EXPECT_EQ(r.folded, 2);
   EXPECT_EQ(r.fewest_turned_over, 2);
   EXPECT_EQ(unchanged_reason(r, 0.2), UnchangedReason::rejected);
-  r.no_visible_gain = true;
+  r.record(admit(figures(0.2, 0.01, 0.1, 0.01 * (1 - 0.5e-6)), kInput, false), 0.01 * (1 - 0.5e-6), 0.01, 0);
+  EXPECT_EQ(r.no_visible_gain, 0);  // a score gain within rounding is no gain at all
+  r.record(admit(figures(0.2, 0.01, 0.1, 0.001), kInput, false), 0.001, 0.01, 0);  // broke nothing, gained nothing
+  EXPECT_EQ(r.no_visible_gain, 1);
   EXPECT_EQ(unchanged_reason(r, 0.2), UnchangedReason::no_visible_gain);
   r.developable_patches = true;
   EXPECT_EQ(unchanged_reason(r, 0.2), UnchangedReason::developable_piecewise);
 }
 
 TEST(Selection, WorseFiguresFlagEveryFigureThatGotWorse) {
-  PipelineStats s = stats(ResultKind::improved, 0.5, 0.02, 2.0);
+  PipelineStats s;
   s.flat_share_before = 0.6;
+  s.flat_share_after = 0.5;
   s.mean_defect_before = 0.01;
+  s.mean_defect_after = 0.02;
+  s.max_defect_before = 1.0;
+  s.max_defect_after = 2.0;
   s.shares_before.ruled = 0.3;
   s.shares_after.ruled = 0.2;
   s.faces_turned_over = 1;
   EXPECT_EQ(worse_figures(s),
             worse_mean_defect | worse_max_defect | worse_flat_share | worse_ruled_share | worse_turned_faces);
-  s = stats(ResultKind::improved, 0.7, 0.005, 0.5);
-  s.flat_share_before = 0.6;
-  s.mean_defect_before = 0.01;
+  s.flat_share_after = 0.7;
+  s.mean_defect_after = 0.005;
+  s.max_defect_after = 0.5;
+  s.shares_after.ruled = 0.4;
+  s.faces_turned_over = 0;
   EXPECT_EQ(worse_figures(s), 0);
 }
 

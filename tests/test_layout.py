@@ -31,7 +31,6 @@ LONG_FUNCTIONS = {
     "pattern/seam_allowance.cpp:offset_outline",
     "pattern/unfold.cpp:flatten_disc",
     "pattern/unfold.cpp:unfold",
-    "tool/main.cpp:main",
 }
 
 

@@ -329,188 +329,211 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
   if (std::rename(temporary.c_str(), path.c_str()) != 0) die(1, "cannot write report " + path);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line, parsed.
+struct Arguments {
   dev_params params;
-  dev_default_params(&params);
+  dev_pattern_params pattern_params;
   std::vector<std::string> files;
   std::string pin_file, report_file, pattern_file;
-  dev_pattern_params pattern_params;
-  dev_default_pattern_params(&pattern_params);
   bool quiet = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> const char* {
-      if (i + 1 >= argc) die(1, arg + " needs a value (see --help)");
-      return argv[++i];
-    };
-    auto choice = [&](std::initializer_list<const char*> names) {
-      const std::string given = value();
-      int index = 0;
-      for (const char* name : names) {
-        if (given == name) return index;
-        ++index;
-      }
-      die(1, arg + ": unknown value '" + given + "' (see --help)");
-    };
+};
+
+// Reads the options with values out of argv: `value` gives the next
+// argument (or dies naming the option), `choice` its index among names.
+class OptionReader {
+ public:
+  OptionReader(int argc, char** argv) : argc_(argc), argv_(argv) {}
+
+  bool next() { return ++i_ < argc_; }
+  std::string arg() const { return argv_[i_]; }
+  const char* value() {
+    if (i_ + 1 >= argc_) die(1, std::string(argv_[i_]) + " needs a value (see --help)");
+    return argv_[++i_];
+  }
+  int choice(std::initializer_list<const char*> names) {
+    const std::string option = argv_[i_];
+    const std::string given = value();
+    int index = 0;
+    for (const char* name : names) {
+      if (given == name) return index;
+      ++index;
+    }
+    die(1, option + ": unknown value '" + given + "' (see --help)");
+  }
+
+ private:
+  int argc_;
+  char** argv_;
+  int i_ = 0;
+};
+
+// An engine option (dev_params): true when `arg` was one.
+bool read_engine_option(const std::string& arg, OptionReader& in, Arguments& a) {
+  dev_params& params = a.params;
+  if (arg == "--omega") {
+    params.omega = parse_number(arg, in.value());
+  } else if (arg == "--tolerance") {
+    params.tolerance = parse_number(arg, in.value());
+  } else if (arg == "--max-move") {
+    params.max_move = parse_number(arg, in.value());
+  } else if (arg == "--polish") {
+    const int index = in.choice({"auto", "on", "off"});
+    params.polish = index == 0 ? -1 : (index == 1 ? 1 : 0);
+  } else if (arg == "--no-smoothed-input") {
+    params.polish_smoothed_input = 0;
+  } else if (arg == "--max-iterations") {
+    params.max_iterations = parse_integer(arg, in.value());
+  } else if (arg == "--mode") {
+    params.mode = in.choice({"refit", "paper"}) == 0 ? DEV_MODE_REFIT : DEV_MODE_PAPER;
+  } else if (arg == "--solver") {
+    params.solver = in.choice({"decoupled", "coupled"}) == 0 ? DEV_SOLVER_DECOUPLED : DEV_SOLVER_COUPLED;
+  } else if (arg == "--pin-boundary") {
+    params.pin_boundary = 1;
+  } else if (arg == "--pin") {
+    a.pin_file = in.value();
+  } else if (arg == "--no-mls") {
+    params.use_mls_weights = 0;
+  } else if (arg == "--segmentation") {
+    const int index = in.choice({"auto", "on", "off"});
+    params.segmentation = index == 0 ? -1 : (index == 1 ? 1 : 0);
+  } else if (arg == "--patches") {
+    params.target_patches = parse_integer(arg, in.value());
+  } else if (arg == "--segment-error") {
+    params.segment_max_error = parse_number(arg, in.value());
+  } else if (arg == "--seams") {
+    params.seams = in.choice({"free", "pinned"}) == 0 ? DEV_SEAMS_FREE : DEV_SEAMS_PINNED;
+  } else if (arg == "--target-smoothing") {
+    params.target_smoothing = parse_integer(arg, in.value());
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// A flat-pattern option (dev_pattern_params): true when `arg` was one.
+bool read_pattern_option(const std::string& arg, OptionReader& in, Arguments& a) {
+  dev_pattern_params& pattern = a.pattern_params;
+  if (arg == "--pattern") {
+    a.pattern_file = in.value();
+  } else if (arg == "--sheet") {
+    const std::string given = in.value();
+    double w = 0, h = 0;
+    char extra = 0;
+    if (given == "a4")
+      w = 210, h = 297;
+    else if (given == "a3")
+      w = 297, h = 420;
+    else if (given == "letter")
+      w = 215.9, h = 279.4;
+    else if (std::sscanf(given.c_str(), "%lfx%lf%c", &w, &h, &extra) != 2 || !(w > 0) || !(h > 0) ||
+             !std::isfinite(w) || !std::isfinite(h))
+      die(1, "--sheet needs WxH in mm (e.g. 210x297) or a4, a3, letter; got '" + given + "'");
+    pattern.sheet_width_mm = w;
+    pattern.sheet_height_mm = h;
+  } else if (arg == "--margin") {
+    pattern.margin_mm = parse_number(arg, in.value());
+  } else if (arg == "--scale") {
+    const std::string given = in.value();
+    pattern.scale = given == "auto" ? 0.0 : parse_number(arg, given.c_str());
+    if (given != "auto" && !(pattern.scale > 0)) die(1, "--scale needs a positive number or auto");
+  } else if (arg == "--unit") {
+    const int index = in.choice({"m", "cm", "mm", "in"});
+    const char* names[] = {"m", "cm", "mm", "in"};
+    const double mm[] = {1000.0, 10.0, 1.0, 25.4};
+    std::snprintf(pattern.unit_name, sizeof pattern.unit_name, "%s", names[index]);
+    pattern.unit_mm = mm[index];
+  } else if (arg == "--seam-tolerance") {
+    pattern.seam_tolerance = parse_number(arg, in.value());
+  } else if (arg == "--seam-allowance") {
+    pattern.seam_allowance_mm = parse_number(arg, in.value());
+  } else if (arg == "--glue-tabs") {
+    pattern.glue_tabs_mm = parse_number(arg, in.value());
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The command line; prints the usage and exits for --help, dies on a bad one.
+Arguments parse_arguments(int argc, char** argv) {
+  Arguments a;
+  dev_default_params(&a.params);
+  dev_default_pattern_params(&a.pattern_params);
+  OptionReader in(argc, argv);
+  while (in.next()) {
+    const std::string arg = in.arg();
     if (arg == "--help" || arg == "-h") {
       std::cout << usage_text;
-      return 0;
-    } else if (arg == "--omega") {
-      params.omega = parse_number(arg, value());
-    } else if (arg == "--tolerance") {
-      params.tolerance = parse_number(arg, value());
-    } else if (arg == "--max-move") {
-      params.max_move = parse_number(arg, value());
-    } else if (arg == "--polish") {
-      const int index = choice({"auto", "on", "off"});
-      params.polish = index == 0 ? -1 : (index == 1 ? 1 : 0);
-    } else if (arg == "--no-smoothed-input") {
-      params.polish_smoothed_input = 0;
-    } else if (arg == "--max-iterations") {
-      params.max_iterations = parse_integer(arg, value());
-    } else if (arg == "--mode") {
-      params.mode = choice({"refit", "paper"}) == 0 ? DEV_MODE_REFIT : DEV_MODE_PAPER;
-    } else if (arg == "--solver") {
-      params.solver = choice({"decoupled", "coupled"}) == 0 ? DEV_SOLVER_DECOUPLED : DEV_SOLVER_COUPLED;
-    } else if (arg == "--pin-boundary") {
-      params.pin_boundary = 1;
-    } else if (arg == "--pin") {
-      pin_file = value();
-    } else if (arg == "--no-mls") {
-      params.use_mls_weights = 0;
-    } else if (arg == "--segmentation") {
-      const int index = choice({"auto", "on", "off"});
-      params.segmentation = index == 0 ? -1 : (index == 1 ? 1 : 0);
-    } else if (arg == "--patches") {
-      params.target_patches = parse_integer(arg, value());
-    } else if (arg == "--segment-error") {
-      params.segment_max_error = parse_number(arg, value());
-    } else if (arg == "--seams") {
-      params.seams = choice({"free", "pinned"}) == 0 ? DEV_SEAMS_FREE : DEV_SEAMS_PINNED;
-    } else if (arg == "--target-smoothing") {
-      params.target_smoothing = parse_integer(arg, value());
+      std::exit(0);
     } else if (arg == "--report") {
-      report_file = value();
-    } else if (arg == "--pattern") {
-      pattern_file = value();
-    } else if (arg == "--sheet") {
-      const std::string given = value();
-      double w = 0, h = 0;
-      char extra = 0;
-      if (given == "a4")
-        w = 210, h = 297;
-      else if (given == "a3")
-        w = 297, h = 420;
-      else if (given == "letter")
-        w = 215.9, h = 279.4;
-      else if (std::sscanf(given.c_str(), "%lfx%lf%c", &w, &h, &extra) != 2 || !(w > 0) || !(h > 0) ||
-               !std::isfinite(w) || !std::isfinite(h))
-        die(1, "--sheet needs WxH in mm (e.g. 210x297) or a4, a3, letter; got '" + given + "'");
-      pattern_params.sheet_width_mm = w;
-      pattern_params.sheet_height_mm = h;
-    } else if (arg == "--margin") {
-      pattern_params.margin_mm = parse_number(arg, value());
-    } else if (arg == "--scale") {
-      const std::string given = value();
-      pattern_params.scale = given == "auto" ? 0.0 : parse_number(arg, given.c_str());
-      if (given != "auto" && !(pattern_params.scale > 0)) die(1, "--scale needs a positive number or auto");
-    } else if (arg == "--unit") {
-      const int index = choice({"m", "cm", "mm", "in"});
-      const char* names[] = {"m", "cm", "mm", "in"};
-      const double mm[] = {1000.0, 10.0, 1.0, 25.4};
-      std::snprintf(pattern_params.unit_name, sizeof pattern_params.unit_name, "%s", names[index]);
-      pattern_params.unit_mm = mm[index];
-    } else if (arg == "--seam-tolerance") {
-      pattern_params.seam_tolerance = parse_number(arg, value());
-    } else if (arg == "--seam-allowance") {
-      pattern_params.seam_allowance_mm = parse_number(arg, value());
-    } else if (arg == "--glue-tabs") {
-      pattern_params.glue_tabs_mm = parse_number(arg, value());
+      a.report_file = in.value();
     } else if (arg == "--quiet" || arg == "-q") {
-      quiet = true;
+      a.quiet = true;
+    } else if (read_engine_option(arg, in, a) || read_pattern_option(arg, in, a)) {
+      continue;
     } else if (!arg.empty() && arg[0] == '-') {
       die(1, "unknown option " + arg + " (see --help)");
     } else {
-      files.push_back(arg);
+      a.files.push_back(arg);
     }
   }
-  if (files.size() != 2) die(1, "need INPUT and OUTPUT files (see --help)");
-  if (dev_abi_version() != DEV_ABI_VERSION) die(1, "the engine library does not match this tool");
-  if (!developable_tool::can_write(files[1])) die(1, "cannot write '" + files[1] + "': use .obj, .off, .ply or .stl");
+  if (a.files.size() != 2) die(1, "need INPUT and OUTPUT files (see --help)");
+  return a;
+}
 
-  developable_tool::RawMesh mesh;
-  std::string error;
-  if (!developable_tool::read_raw_mesh(files[0], mesh, error)) die(1, error);
-  std::vector<uint8_t> pinned;
-  if (!pin_file.empty()) pinned = read_pins(pin_file, mesh.vertex_count());
-
-  dev_result* result = nullptr;
+// The flat pattern of the result (dev_unfold on its patches), its stats and
+// its report section; dies on an error.
+std::string unfold_result(const dev_result* result, const dev_stats& stats, const std::vector<double>& positions,
+                          const developable_tool::RawMesh& mesh, Arguments& a, dev_pattern_stats& pattern_stats) {
+  std::vector<int32_t> patches(static_cast<size_t>(stats.faces));
+  dev_result_patch_ids(result, patches.data(), stats.faces);
+  a.pattern_params.svg_path = a.pattern_file.c_str();
+  dev_pattern* pattern = nullptr;
   char message[1024];
-  const int32_t status = dev_run(mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(),
-                                 mesh.triangle_count(), pinned.empty() ? nullptr : pinned.data(), &params,
-                                 quiet ? nullptr : print_progress, nullptr, &result, message, sizeof message);
-  if (!quiet) std::fprintf(stderr, "\n");
-  if (status != DEV_STATUS_OK) die(2, std::string(files[0]) + ": " + message);
+  const int32_t unfolded =
+      dev_unfold(positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(), patches.data(),
+                 &a.pattern_params, nullptr, nullptr, &pattern, message, sizeof message);
+  if (unfolded != DEV_STATUS_OK) die(2, "pattern: " + std::string(message));
+  dev_pattern_stats_get(pattern, &pattern_stats);
+  std::string report = pattern_json(pattern, a.pattern_params);
+  dev_pattern_free(pattern);
+  return report;
+}
 
-  dev_stats stats;
-  dev_result_stats(result, &stats);
-  std::vector<double> positions(mesh.positions.size());
-  dev_result_positions(result, positions.data(), static_cast<int64_t>(positions.size()));
-  if (!developable_tool::write_mesh(files[1], positions, mesh.triangles, error)) die(1, error);
-  std::string pattern_report;
-  dev_pattern_stats pattern_stats{};
-  if (!pattern_file.empty()) {
-    std::vector<int32_t> patches(static_cast<size_t>(stats.faces));
-    dev_result_patch_ids(result, patches.data(), stats.faces);
-    pattern_params.svg_path = pattern_file.c_str();
-    dev_pattern* pattern = nullptr;
-    const int32_t unfolded =
-        dev_unfold(positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(), patches.data(),
-                   &pattern_params, nullptr, nullptr, &pattern, message, sizeof message);
-    if (unfolded != DEV_STATUS_OK) {
-      dev_result_free(result);
-      die(2, "pattern: " + std::string(message));
-    }
-    dev_pattern_stats_get(pattern, &pattern_stats);
-    pattern_report = pattern_json(pattern, pattern_params);
-    dev_pattern_free(pattern);
-  }
-  if (!report_file.empty()) write_report(report_file, result, stats, params, pattern_report);
-  dev_result_free(result);
+// The run's figures on stderr (not with --quiet).
+void print_summary(const dev_stats& stats, const dev_pattern_stats* pattern_stats) {
+  std::fprintf(stderr,
+               "#v %lld  #f %lld  AE %.4g  patches %lld\n"
+               "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
+               "iterations %d (%s), polish %d, result from %s  largest move %.4g (%.3g AE, limit %.4g)\n"
+               "t_D %.2f ms  t_I %.2f ms  polish %.2f ms  t_T %.2f ms\n",
+               static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces), stats.average_edge_length,
+               static_cast<long long>(stats.patches), stats.mean_defect_before, stats.mean_defect_after,
+               stats.change_percent, stats.max_defect_before, stats.max_defect_after, stats.iterations,
+               stop_reason_name(stats.stop_reason), stats.polish_iterations, origin_name(stats.result_origin),
+               stats.max_vertex_move, stats.max_vertex_move / stats.average_edge_length, stats.move_limit,
+               stats.time_decompose_ms, stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
+  const std::string result_kind = stats.result == DEV_RESULT_UNCHANGED
+                                      ? std::string("unchanged (") + unchanged_reason_name(stats.unchanged_reason) + ")"
+                                      : "improved";
+  std::fprintf(stderr,
+               "flat %.1f %% -> %.1f %%  flat and ruled %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
+               100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after, 100.0 * stats.ruled_share_before,
+               100.0 * stats.ruled_share_after, static_cast<long long>(stats.faces_turned_over), result_kind.c_str());
+  if (pattern_stats != nullptr)
+    std::fprintf(stderr,
+                 "pattern: %lld pieces on %lld sheets at scale %g, %lld seams, %lld cut edges, "
+                 "%lld splits; strain max %.3g %% mean %.3g %%; %.1f ms\n",
+                 static_cast<long long>(pattern_stats->pieces), static_cast<long long>(pattern_stats->sheets),
+                 pattern_stats->scale, static_cast<long long>(pattern_stats->seams),
+                 static_cast<long long>(pattern_stats->cut_edges), static_cast<long long>(pattern_stats->splits),
+                 100 * pattern_stats->max_strain, 100 * pattern_stats->mean_strain, pattern_stats->time_total_ms);
+}
 
-  if (!quiet) {
-    std::fprintf(stderr,
-                 "#v %lld  #f %lld  AE %.4g  patches %lld\n"
-                 "E_before %.4e  E_after %.4e  dE %.2f %%  max |defect| %.3e -> %.3e\n"
-                 "iterations %d (%s), polish %d, result from %s  largest move %.4g (%.3g AE, limit %.4g)\n"
-                 "t_D %.2f ms  t_I %.2f ms  polish %.2f ms  t_T %.2f ms\n",
-                 static_cast<long long>(stats.vertices), static_cast<long long>(stats.faces), stats.average_edge_length,
-                 static_cast<long long>(stats.patches), stats.mean_defect_before, stats.mean_defect_after,
-                 stats.change_percent, stats.max_defect_before, stats.max_defect_after, stats.iterations,
-                 stop_reason_name(stats.stop_reason), stats.polish_iterations, origin_name(stats.result_origin),
-                 stats.max_vertex_move, stats.max_vertex_move / stats.average_edge_length, stats.move_limit,
-                 stats.time_decompose_ms, stats.time_iterate_ms, stats.time_polish_ms, stats.time_total_ms);
-    const std::string result_kind =
-        stats.result == DEV_RESULT_UNCHANGED
-            ? std::string("unchanged (") + unchanged_reason_name(stats.unchanged_reason) + ")"
-            : "improved";
-    std::fprintf(stderr,
-                 "flat %.1f %% -> %.1f %%  flat and ruled %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
-                 100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after, 100.0 * stats.ruled_share_before,
-                 100.0 * stats.ruled_share_after, static_cast<long long>(stats.faces_turned_over), result_kind.c_str());
-    if (!pattern_file.empty())
-      std::fprintf(stderr,
-                   "pattern: %lld pieces on %lld sheets at scale %g, %lld seams, %lld cut edges, "
-                   "%lld splits; strain max %.3g %% mean %.3g %%; %.1f ms\n",
-                   static_cast<long long>(pattern_stats.pieces), static_cast<long long>(pattern_stats.sheets),
-                   pattern_stats.scale, static_cast<long long>(pattern_stats.seams),
-                   static_cast<long long>(pattern_stats.cut_edges), static_cast<long long>(pattern_stats.splits),
-                   100 * pattern_stats.max_strain, 100 * pattern_stats.mean_strain, pattern_stats.time_total_ms);
-  }
-  // Even with --quiet: the user must know when the output is the input, or a
-  // figure got worse. An input that was developable already is no failure.
+// What the user must know even with --quiet: when the output is the input,
+// or a figure got worse (an input developable already is no failure), and
+// the pattern's notes.
+void print_notes(const dev_stats& stats, const dev_pattern_stats& pattern_stats) {
   const bool nothing_to_do = stats.unchanged_reason == DEV_UNCHANGED_ALREADY_DEVELOPABLE ||
                              stats.unchanged_reason == DEV_UNCHANGED_DEVELOPABLE_PIECEWISE ||
                              stats.unchanged_reason == DEV_UNCHANGED_ALREADY_FLAT;
@@ -524,5 +547,39 @@ int main(int argc, char** argv) {
                  "note: the cut lines of %lld pieces follow the offset of their convex hull (the seam "
                  "allowance is wider than asked in their hollows)\n",
                  static_cast<long long>(pattern_stats.cut_lines_from_hull));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments a = parse_arguments(argc, argv);
+  if (dev_abi_version() != DEV_ABI_VERSION) die(1, "the engine library does not match this tool");
+  if (!developable_tool::can_write(a.files[1]))
+    die(1, "cannot write '" + a.files[1] + "': use .obj, .off, .ply or .stl");
+  developable_tool::RawMesh mesh;
+  std::string error;
+  if (!developable_tool::read_raw_mesh(a.files[0], mesh, error)) die(1, error);
+  std::vector<uint8_t> pinned;
+  if (!a.pin_file.empty()) pinned = read_pins(a.pin_file, mesh.vertex_count());
+
+  dev_result* result = nullptr;
+  char message[1024];
+  const int32_t status = dev_run(mesh.positions.data(), mesh.vertex_count(), mesh.triangles.data(),
+                                 mesh.triangle_count(), pinned.empty() ? nullptr : pinned.data(), &a.params,
+                                 a.quiet ? nullptr : print_progress, nullptr, &result, message, sizeof message);
+  if (!a.quiet) std::fprintf(stderr, "\n");
+  if (status != DEV_STATUS_OK) die(2, std::string(a.files[0]) + ": " + message);
+  dev_stats stats;
+  dev_result_stats(result, &stats);
+  std::vector<double> positions(mesh.positions.size());
+  dev_result_positions(result, positions.data(), static_cast<int64_t>(positions.size()));
+  if (!developable_tool::write_mesh(a.files[1], positions, mesh.triangles, error)) die(1, error);
+  dev_pattern_stats pattern_stats{};
+  const std::string pattern_report =
+      a.pattern_file.empty() ? std::string() : unfold_result(result, stats, positions, mesh, a, pattern_stats);
+  if (!a.report_file.empty()) write_report(a.report_file, result, stats, a.params, pattern_report);
+  dev_result_free(result);
+  if (!a.quiet) print_summary(stats, a.pattern_file.empty() ? nullptr : &pattern_stats);
+  print_notes(stats, pattern_stats);
   return 0;
 }

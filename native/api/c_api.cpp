@@ -1,8 +1,10 @@
 // The C ABI (developable.h): checks the caller's buffers and counts,
-// converts them and the parameters, calls the pipeline, and catches
-// everything. The checks of the mesh and the options, the memory budget and
-// the diagnosis of polygon soups live in the pipeline (check_input,
-// run_pipeline), where C++ callers get them too.
+// converts them and the parameters, turns the faces so that neighbours agree
+// (orientation.h; the per-face outputs go back in the caller's winding),
+// calls the pipeline, and catches everything. The checks of the mesh and the
+// options, the memory budget and the diagnosis of polygon soups live in the
+// pipeline (check_input, run_pipeline), where C++ callers get them too; a
+// C++ caller of run_pipeline or unfold turns the faces itself (orient_faces).
 #include "api/developable.h"
 
 #include "core/mesh_input.h"

@@ -105,17 +105,23 @@ def moebius_band():
 # Meshes that were refused once for "edges between faces of opposite direction": the engine turns the
 # faces itself now (tests/test_one_sided.py has the figures).
 WOUND_ANY_WAY = {
-    "inconsistent orientation": (SQUARE, np.vstack([FAN[:1], [[2, 1, 4]], FAN[2:]])),
-    "one-sided (Möbius strip)": moebius_band(),
+    # name: (positions, triangles, what dev_validate says after "ok: ")
+    "inconsistent orientation": (
+        SQUARE,
+        np.vstack([FAN[:1], [[2, 1, 4]], FAN[2:]]),
+        "1 of 4 triangles is wound the other way round from the neighbours; the run turns it over",
+    ),
+    "one-sided (Möbius strip)": moebius_band() + ("the surface is one-sided (like a Möbius strip)",),
 }
 
 
 @pytest.mark.parametrize("name", sorted(WOUND_ANY_WAY))
 def test_either_winding_is_accepted(library, tool_path, tmp_path, name):
-    positions, triangles = WOUND_ANY_WAY[name]
+    positions, triangles, note = WOUND_ANY_WAY[name]
     directed = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
     assert len(np.unique(directed, axis=0)) < len(directed)  # two faces run an edge the same way
-    assert native.validate(positions, triangles) == (0, "ok")
+    status, message = native.validate(positions, triangles)
+    assert status == 0 and message.startswith("ok: " + note), message
     result = native.run(positions, triangles)
     assert np.isfinite(result.positions).all()
     source, target = tmp_path / "in.obj", tmp_path / "out.obj"

@@ -284,10 +284,16 @@ void dev_default_params(dev_params* params) {
 
 int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,
                      char* message, size_t message_capacity) {
-  return guarded(message, message_capacity, [&] {
+  std::string note;  // what the run will turn (orientation.h)
+  const int32_t status = guarded(message, message_capacity, [&] {
     check_buffers(positions, n_vertices, triangles, n_triangles);
-    developable::validate_mesh(copy_positions(positions, n_vertices), copy_triangles(triangles, n_triangles));
+    const developable::Positions mesh_positions = copy_positions(positions, n_vertices);
+    const developable::Triangles mesh_triangles = copy_triangles(triangles, n_triangles);
+    developable::validate_mesh(mesh_positions, mesh_triangles);
+    note = developable::orientation_note(developable::orient_faces(mesh_positions, mesh_triangles));
   });
+  if (status == DEV_STATUS_OK && !note.empty()) write_message(message, message_capacity, "ok: " + note);
+  return status;
 }
 
 int32_t dev_run(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,

@@ -258,7 +258,9 @@ DEV_API int32_t dev_run(const double* positions, int64_t n_vertices, const int32
 /* Only the input check of dev_run (stage 1): same codes and messages. Either winding of every
  * triangle is accepted: dev_run and dev_unfold turn faces so that neighbours agree
  * (native/core/orientation.h), on a one-sided surface (a Möbius strip) everywhere but along a
- * short cut, and hand per-face and per-corner outputs back in the caller's winding. */
+ * short cut, and hand per-face and per-corner outputs back in the caller's winding. On
+ * DEV_STATUS_OK the message is "ok", or "ok: " and a sentence saying what is turned (how many
+ * triangles, or that the surface is one-sided and where it is cut). */
 DEV_API int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,
                              char* message, size_t message_capacity);
 

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iomanip>
 #include <limits>
 #include <memory>
 #include <numeric>
 #include <queue>
+#include <sstream>
 #include <utility>
 
 namespace developable {
@@ -410,6 +412,25 @@ FaceOrientation orient_faces(const Positions& positions, const Triangles& triang
                       : out.turned_count > 0            ? Orientability::inconsistent
                                                         : Orientability::consistent;
   return out;
+}
+
+std::string orientation_note(const FaceOrientation& o) {
+  std::ostringstream s;
+  s << std::setprecision(3);
+  if (o.orientability == Orientability::inconsistent) {
+    s << o.turned_count << " of " << o.triangles.rows() << " triangles " << (o.turned_count == 1 ? "is" : "are")
+      << " wound the other way round from the neighbours; the run turns " << (o.turned_count == 1 ? "it" : "them")
+      << " over, which gives the result of "
+         "the mesh wound consistently";
+  } else if (o.orientability == Orientability::non_orientable) {
+    s << "the surface is one-sided (like a Möbius strip"
+      << (o.non_orientable_components > 1 ? ", in " + std::to_string(o.non_orientable_components) + " parts" : "")
+      << "): no winding makes every triangle agree with its neighbours; the run winds it consistently but "
+         "along a cut of "
+      << o.cut.size() << (o.cut.size() == 1 ? " edge" : " edges") << " (length " << o.cut_length
+      << "), which the flat pattern opens";
+  }
+  return s.str();
 }
 
 void to_caller_normals(Normals& normals, const std::vector<bool>& turned) {

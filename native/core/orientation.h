@@ -22,6 +22,7 @@
 #include "core/types.h"
 
 #include <array>
+#include <string>
 #include <vector>
 
 namespace developable {
@@ -68,6 +69,11 @@ struct FaceOrientation {
 //   validate_mesh refuses) comes back as given. O(faces) for a consistent
 //   mesh, O(faces log faces) otherwise. Throws nothing but std::bad_alloc.
 FaceOrientation orient_faces(const Positions& positions, const Triangles& triangles);
+
+// What the turning did, in words for a user: "" when nothing was turned;
+// else how many faces were turned, or that the surface is one-sided and
+// where it is cut (edges and length).
+std::string orientation_note(const FaceOrientation& orientation);
 
 // Per-face vectors (target normals) the engine computed on `turned`'s
 // faces, in the caller's winding: the rows of turned faces negated.

@@ -351,6 +351,21 @@ TEST(Orientation, CallerWindingRestored) {
   EXPECT_EQ(back.row(5), corners.row(4));
 }
 
+TEST(Orientation, NoteSaysWhatIsTurned) {
+  const test::Mesh plane = test::plane(4, 4);
+  EXPECT_EQ(orientation_note(orient_faces(plane.positions, plane.triangles)), "");
+  std::vector<bool> one(static_cast<size_t>(plane.triangles.rows()), false), two = one;
+  one[3] = two[3] = two[5] = true;
+  EXPECT_EQ(orientation_note(orient_faces(plane.positions, flipped(plane.triangles, one))).substr(0, 66),
+            "1 of 18 triangles is wound the other way round from the neighbours");
+  EXPECT_EQ(orientation_note(orient_faces(plane.positions, flipped(plane.triangles, two))).substr(0, 15),
+            "2 of 18 triangl");
+  const test::Mesh strip = moebius(6, 60, 1.0, 0.3);
+  const std::string note = orientation_note(orient_faces(strip.positions, strip.triangles));
+  EXPECT_NE(note.find("one-sided"), std::string::npos) << note;
+  EXPECT_NE(note.find("a cut of 6 edges (length 0.3)"), std::string::npos) << note;
+}
+
 TEST(Orientation, MeshesTheInputCheckRefusesComeBackAsGiven) {
   const test::Mesh m = test::plane(4, 4);
   Triangles bad = flipped(m.triangles, random_faces(m.triangles.rows(), 0.3, 4));

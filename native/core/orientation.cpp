@@ -194,21 +194,36 @@ bool shortest_crossing_path(const Positions& positions, const Triangles& t, cons
       }
   const auto local = [&](int v) { return work.local[static_cast<size_t>(v)]; };
   std::vector<char> rim(vertices.size(), 0);
-  std::vector<std::array<int, 3>> arcs;  // (from, to, half-edge), local vertices
+  // The interior edges both ways from each vertex, in compressed rows (a
+  // counting sort, in the order of the faces), with their lengths.
+  std::vector<int> first(vertices.size() + 1, 0);
   for (int f : members)
     for (int k = 0; k < 3; ++k) {
       const int h = 3 * f + k, twin = dual.twin[static_cast<size_t>(h)];
       const int a = local(from_vertex(t, h)), b = local(to_vertex(t, h));
       if (twin < 0) rim[static_cast<size_t>(a)] = rim[static_cast<size_t>(b)] = 1;
-      if (twin > h) arcs.push_back({a, b, h}), arcs.push_back({b, a, h});
+      if (twin > h) ++first[static_cast<size_t>(a) + 1], ++first[static_cast<size_t>(b) + 1];
     }
-  std::sort(arcs.begin(), arcs.end());
-  std::vector<int> first(vertices.size() + 1, 0);
-  for (const auto& arc : arcs) ++first[static_cast<size_t>(arc[0]) + 1];
   std::partial_sum(first.begin(), first.end(), first.begin());
+  struct Arc {
+    int to, half;
+    double length;
+  };
+  std::vector<Arc> arcs(static_cast<size_t>(first.back()));
+  std::vector<int> fill(first.begin(), first.end() - 1);
+  for (int f : members)
+    for (int k = 0; k < 3; ++k) {
+      const int h = 3 * f + k;
+      if (dual.twin[static_cast<size_t>(h)] < h) continue;
+      const int a = local(from_vertex(t, h)), b = local(to_vertex(t, h));
+      const double length = (positions.row(from_vertex(t, h)) - positions.row(to_vertex(t, h))).norm();
+      arcs[static_cast<size_t>(fill[static_cast<size_t>(a)]++)] = {b, h, length};
+      arcs[static_cast<size_t>(fill[static_cast<size_t>(b)]++)] = {a, h, length};
+    }
   // States 2 v + crossings mod 2.
   std::vector<double> distance(2 * vertices.size(), std::numeric_limits<double>::infinity());
-  std::vector<int> back(2 * vertices.size(), -1);  // the arc into the state
+  std::vector<int> back(2 * vertices.size(), -1);  // the state before
+  std::vector<int> over(2 * vertices.size(), -1);  // the half-edge from it
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   for (size_t v = 0; v < vertices.size(); ++v)
@@ -219,26 +234,23 @@ bool shortest_crossing_path(const Positions& positions, const Triangles& t, cons
     queue.pop();
     if (d > distance[static_cast<size_t>(state)]) continue;
     if (state % 2 == 1 && rim[static_cast<size_t>(state / 2)]) reached = state;
-    for (int i = first[static_cast<size_t>(state / 2)]; reached < 0 && i < first[static_cast<size_t>(state / 2) + 1];
-         ++i) {
-      const auto& [a, b, h] = arcs[static_cast<size_t>(i)];
-      const int next = 2 * b + ((state % 2) ^ work.loop[static_cast<size_t>(h)]);
-      const double through =
-          d +
-          (positions.row(vertices[static_cast<size_t>(a)]) - positions.row(vertices[static_cast<size_t>(b)])).norm();
-      if (through < distance[static_cast<size_t>(next)]) {
-        distance[static_cast<size_t>(next)] = through;
-        back[static_cast<size_t>(next)] = i;
-        queue.push({through, next});
+    const auto v = static_cast<size_t>(state / 2);
+    for (int i = first[v]; reached < 0 && i < first[v + 1]; ++i) {
+      const Arc& arc = arcs[static_cast<size_t>(i)];
+      const auto next = static_cast<size_t>(2 * arc.to + ((state % 2) ^ work.loop[static_cast<size_t>(arc.half)]));
+      if (d + arc.length < distance[next]) {
+        distance[next] = d + arc.length;
+        back[next] = state;
+        over[next] = arc.half;
+        queue.push({d + arc.length, static_cast<int>(next)});
       }
     }
   }
   if (reached < 0) return false;
-  for (int state = reached; back[static_cast<size_t>(state)] >= 0;) {
-    const auto& [a, b, h] = arcs[static_cast<size_t>(back[static_cast<size_t>(state)])];
+  for (int state = reached; back[static_cast<size_t>(state)] >= 0; state = back[static_cast<size_t>(state)]) {
+    const int h = over[static_cast<size_t>(state)];
     work.path[static_cast<size_t>(h)] ^= 1;
     work.path[static_cast<size_t>(dual.twin[static_cast<size_t>(h)])] ^= 1;
-    state = 2 * a + ((state % 2) ^ work.loop[static_cast<size_t>(h)]);
   }
   return true;
 }

@@ -62,8 +62,13 @@ struct FaceOrientation {
 //    way meet those going the other way: across a strip, opposite the first
 //    face. The cut is then shortened by turning single faces while that
 //    makes it shorter (a face two of whose edges are on the cut always does:
-//    the triangle inequality), and the component gets the winding of the
-//    two with this cut that turns fewer faces, as above.
+//    the triangle inequality). On a component with a rim it is replaced by
+//    the shortest path of edges of two faces from the rim back to it that
+//    crosses that tree's loop through the cut an odd number of times (a loop
+//    going once round against the orientation), when that path is a cut
+//    (checked: with a hole it may not be) and shorter: across a strip, the
+//    shortest way across. The component gets the winding of the two with
+//    this cut that turns fewer faces, as above.
 //   positions, triangles: any mesh. Edges of more than two faces join no
 //   faces; a mesh with an index out of range or a non-finite coordinate (which
 //   validate_mesh refuses) comes back as given. O(faces) for a consistent

@@ -1,14 +1,18 @@
 // The C ABI (developable.h): checks the caller's buffers and counts,
-// converts them and the parameters, calls the pipeline, and catches
-// everything. The checks of the mesh and the options, the memory budget and
-// the diagnosis of polygon soups live in the pipeline (check_input,
-// run_pipeline), where C++ callers get them too.
+// converts them and the parameters, turns the faces so that neighbours agree
+// (orientation.h; the per-face outputs go back in the caller's winding),
+// calls the pipeline, and catches everything. The checks of the mesh and the
+// options, the memory budget and the diagnosis of polygon soups live in the
+// pipeline (check_input, run_pipeline), where C++ callers get them too; a
+// C++ caller of run_pipeline or unfold turns the faces itself (orient_faces).
 #include "api/developable.h"
 
 #include "core/mesh_input.h"
+#include "core/orientation.h"
 #include "pattern/pattern_layout.h"
 #include "pattern/pattern_svg.h"
 #include "pattern/unfold.h"
+#include "pipeline/memory_budget.h"
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
@@ -27,7 +31,8 @@ struct dev_result {
 };
 
 struct dev_pattern {
-  developable::UnfoldResult unfolded;
+  developable::UnfoldResult unfolded;  // the faces as the engine ran them (orientation.h)
+  std::vector<bool> turned;            // per face: turned over against the caller's winding
   developable::Layout layout;
   bool laid_out = false;
   std::vector<std::string> files;
@@ -204,6 +209,48 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
 }
 
+// The unfolding ran on the mesh opened along the cut of its one-sided
+// components (orientation.h): its seams name the caller's vertices again, and
+// the cut becomes seams of its own, one per run of it between the same two
+// pieces, counted as cut edges of its piece. Both faces of such a seam run
+// its edges from -> to (a one-sided surface is glued to itself turned over):
+// side b's edges do not run the other way round its outline, as a seam's
+// usually do.
+void rejoin_cut(developable::UnfoldResult& u, const developable::Positions& positions,
+                const developable::FaceOrientation& orientation, const developable::OpenedMesh& opened,
+                const std::vector<int>& patches) {
+  for (auto& seam : u.seams)
+    for (auto& edge : seam.edges)
+      for (int& v : edge) v = opened.original[static_cast<size_t>(v)];
+  const auto flat = [&](int f, int v) -> Eigen::Vector2d {
+    const int k = orientation.triangles(f, 0) == v ? 0 : (orientation.triangles(f, 1) == v ? 1 : 2);
+    return u.corners.row(3 * f + k).transpose();
+  };
+  const auto patch_of = [&](int f) { return patches.empty() ? 0 : patches[static_cast<size_t>(f)]; };
+  for (const auto& chain : developable::cut_chains(positions, orientation, opened)) {
+    size_t seam = u.seams.size();
+    for (size_t i = 0; i < chain.edges.size(); ++i) {
+      const auto [a, b] = chain.edges[i];
+      const auto [fa, fb] = chain.faces[i];
+      const int pa = u.piece_of_face[static_cast<size_t>(fa)], pb = u.piece_of_face[static_cast<size_t>(fb)];
+      if (seam == u.seams.size() || u.seams[seam].piece_a != pa || u.seams[seam].piece_b != pb) {
+        seam = u.seams.size();
+        u.seams.emplace_back();
+        u.seams[seam].piece_a = pa;
+        u.seams[seam].piece_b = pb;
+        u.seams[seam].cut = patch_of(fa) == patch_of(fb);
+      }
+      developable::UnfoldSeam& s = u.seams[seam];
+      s.edges.push_back({a, b});
+      s.faces.push_back({fa, fb});
+      s.length_3d += (positions.row(a) - positions.row(b)).norm();
+      s.length_a += (flat(fa, b) - flat(fa, a)).norm();
+      s.length_b += (flat(fb, b) - flat(fb, a)).norm();
+      if (pa == pb) ++u.pieces[static_cast<size_t>(pa)].cut_edges;
+    }
+  }
+}
+
 }  // namespace
 
 extern "C" {
@@ -237,10 +284,16 @@ void dev_default_params(dev_params* params) {
 
 int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,
                      char* message, size_t message_capacity) {
-  return guarded(message, message_capacity, [&] {
+  std::string note;  // what the run will turn (orientation.h)
+  const int32_t status = guarded(message, message_capacity, [&] {
     check_buffers(positions, n_vertices, triangles, n_triangles);
-    developable::validate_mesh(copy_positions(positions, n_vertices), copy_triangles(triangles, n_triangles));
+    const developable::Positions mesh_positions = copy_positions(positions, n_vertices);
+    const developable::Triangles mesh_triangles = copy_triangles(triangles, n_triangles);
+    developable::validate_mesh(mesh_positions, mesh_triangles);
+    note = developable::orientation_note(developable::orient_faces(mesh_positions, mesh_triangles));
   });
+  if (status == DEV_STATUS_OK && !note.empty()) write_message(message, message_capacity, "ok: " + note);
+  return status;
 }
 
 int32_t dev_run(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,
@@ -258,8 +311,21 @@ int32_t dev_run(const double* positions, int64_t n_vertices, const int32_t* tria
     std::pair<dev_progress_fn, void*> callback{progress, user};
     const developable::Progress report{progress != nullptr ? call_progress : nullptr, &callback};
     auto owned = std::make_unique<dev_result>();
-    owned->pipeline = developable::run_pipeline(copy_positions(positions, n_vertices),
-                                                copy_triangles(triangles, n_triangles), pin_mask, options, report);
+    // The engine runs on faces turned so that neighbours agree (one-sided and
+    // inconsistently wound meshes, orientation.h) and hands the target
+    // normals back in the caller's winding. The options and the memory budget
+    // are checked first, as run_pipeline does, so that neither costs the
+    // turning.
+    developable::check_options(options);
+    developable::check_memory_budget(n_vertices, n_triangles, options);
+    const developable::Positions mesh_positions = copy_positions(positions, n_vertices);
+    const developable::FaceOrientation orientation =
+        developable::orient_faces(mesh_positions, copy_triangles(triangles, n_triangles));
+    // A refusal names the caller's triangles: a turned mesh is checked as given first.
+    if (orientation.turned_count > 0)
+      developable::validate_mesh(mesh_positions, copy_triangles(triangles, n_triangles));
+    owned->pipeline = developable::run_pipeline(mesh_positions, orientation.triangles, pin_mask, options, report);
+    developable::to_caller_normals(owned->pipeline.target_normals, orientation.turned);
     *result = owned.release();
   });
 }
@@ -402,6 +468,11 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
     const developable::Positions mesh_positions = copy_positions(positions, n_vertices);
     const developable::Triangles mesh_triangles = copy_triangles(triangles, n_triangles);
     developable::validate_mesh(mesh_positions, mesh_triangles);
+    // Unfolded on faces turned so that neighbours agree, and on a one-sided
+    // mesh opened along its cut (orientation.h); the corners go back to the
+    // caller's order in the accessors.
+    const developable::FaceOrientation orientation = developable::orient_faces(mesh_positions, mesh_triangles);
+    const developable::OpenedMesh opened = developable::open_along_cut(mesh_positions, orientation);
     std::vector<int> patches;
     if (patch_ids != nullptr) patches.assign(patch_ids, patch_ids + n_triangles);
     std::vector<int> groups;
@@ -426,13 +497,15 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
     const developable::Progress report{progress != nullptr ? call_progress : nullptr, &callback};
     auto owned = std::make_unique<dev_pattern>();
     owned->unfolded =
-        developable::unfold(mesh_positions, mesh_triangles, patches, unfold_options, groups, report.sub(0.0, 0.8));
+        developable::unfold(opened.positions, opened.triangles, patches, unfold_options, groups, report.sub(0.0, 0.8));
+    rejoin_cut(owned->unfolded, mesh_positions, orientation, opened, patches);
+    owned->turned = orientation.turned;
     dev_pattern_stats& st = owned->stats;
     st.time_unfold_ms = elapsed_ms(start);
     const auto layout_start = std::chrono::steady_clock::now();
     if (p.layout != 0) {
       owned->layout =
-          developable::layout_pattern(owned->unfolded, mesh_triangles, layout_options, report.sub(0.8, 1.0));
+          developable::layout_pattern(owned->unfolded, orientation.triangles, layout_options, report.sub(0.8, 1.0));
       owned->laid_out = true;
       if (write_svg) owned->files = developable::write_pattern_svg(owned->layout, owned->unfolded, p.svg_path);
     }
@@ -474,16 +547,16 @@ int32_t dev_pattern_stats_get(const dev_pattern* pattern, dev_pattern_stats* sta
 
 int32_t dev_pattern_corner_uvs(const dev_pattern* pattern, double* out, int64_t capacity) {
   if (pattern == nullptr || out == nullptr) return DEV_STATUS_INVALID_ARGUMENT;
-  const auto& c = pattern->unfolded.corners;
-  if (capacity < static_cast<int64_t>(c.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  if (capacity < static_cast<int64_t>(pattern->unfolded.corners.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto c = developable::to_caller_corners(pattern->unfolded.corners, pattern->turned);
   std::copy(c.data(), c.data() + c.size(), out);
   return DEV_STATUS_OK;
 }
 
 int32_t dev_pattern_sheet_uvs(const dev_pattern* pattern, double* out, int64_t capacity) {
   if (pattern == nullptr || out == nullptr || !pattern->laid_out) return DEV_STATUS_INVALID_ARGUMENT;
-  const auto& c = pattern->layout.corners;
-  if (capacity < static_cast<int64_t>(c.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  if (capacity < static_cast<int64_t>(pattern->layout.corners.size())) return DEV_STATUS_INVALID_ARGUMENT;
+  const auto c = developable::to_caller_corners(pattern->layout.corners, pattern->turned);
   std::copy(c.data(), c.data() + c.size(), out);
   return DEV_STATUS_OK;
 }

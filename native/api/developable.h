@@ -259,7 +259,12 @@ DEV_API int32_t dev_run(const double* positions, int64_t n_vertices, const int32
                         const uint8_t* pinned, const dev_params* params, dev_progress_fn progress, void* user,
                         dev_result** result, char* message, size_t message_capacity);
 
-/* Only the input check of dev_run (stage 1): same codes and messages. */
+/* Only the input check of dev_run (stage 1): same codes and messages. Either winding of every
+ * triangle is accepted: dev_run and dev_unfold turn faces so that neighbours agree
+ * (native/core/orientation.h), on a one-sided surface (a Möbius strip) everywhere but along a
+ * short cut, and hand per-face and per-corner outputs back in the caller's winding. On
+ * DEV_STATUS_OK the message is "ok", or "ok: " and a sentence saying what is turned (how many
+ * triangles, or that the surface is one-sided and where it is cut). */
 DEV_API int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,
                              char* message, size_t message_capacity);
 
@@ -277,12 +282,14 @@ DEV_API int32_t dev_result_defect_after(const dev_result* result, double* out, i
 /* n_vertices bytes: 1 for interior vertices (where the defect is defined). */
 DEV_API int32_t dev_result_interior(const dev_result* result, uint8_t* out, int64_t capacity);
 /* n_triangles * 3 float64: the target normal of each face in the step that made the returned
- * positions (the input's fit when the input is returned). */
+ * positions (the input's fit when the input is returned), in the caller's winding: beside the
+ * face's own normal as the caller winds it, also where the engine turned the face over. */
 DEV_API int32_t dev_result_target_normals(const dev_result* result, double* out, int64_t capacity);
 /* n_triangles int32: patch id of each face, 0 .. patches-1. */
 DEV_API int32_t dev_result_patch_ids(const dev_result* result, int32_t* out, int64_t capacity);
 
-/* Ideal curves behind those targets, as polylines on the unit sphere. */
+/* Ideal curves behind those targets, as polylines on the unit sphere (the Gauss image of the
+ * engine's winding: a face it turned over has its target's antipode on them). */
 DEV_API int64_t dev_result_curve_count(const dev_result* result);
 /* Point count, patch id and closed flag of curve `index`; returns DEV_STATUS_INVALID_ARGUMENT
  * for an index out of range. Any output pointer may be NULL. */
@@ -370,7 +377,8 @@ typedef struct dev_pattern_piece {
 
 typedef struct dev_pattern_seam {
   int32_t piece_a; /* the piece left of the seam's directed edges */
-  int32_t piece_b; /* == piece_a for a cut inside one piece */
+  int32_t piece_b; /* == piece_a for a cut inside one piece; on the cut of a one-sided surface
+                      both sides run the edges the same way */
   int32_t cut;     /* 1: both sides are of the same patch (cut or split); 0: a patch border */
   int64_t edges;
   double length_3d; /* model units */
@@ -400,7 +408,8 @@ DEV_API void dev_pattern_free(dev_pattern* pattern);
 
 /* Accessors, same rules as the dev_result ones. */
 DEV_API int32_t dev_pattern_stats_get(const dev_pattern* pattern, dev_pattern_stats* stats);
-/* n_triangles * 3 * 2 float64: corner k of face f at 6 f + 2 k, piece-local, model units. */
+/* n_triangles * 3 * 2 float64: corner k of face f at 6 f + 2 k, piece-local, model units; the
+ * caller's corner k (a face the engine turned over runs clockwise). */
 DEV_API int32_t dev_pattern_corner_uvs(const dev_pattern* pattern, double* out, int64_t capacity);
 /* n_triangles * 3 * 2 float64: the same on the sheets, mm, x right and y down from the top left
  * corner of the piece's sheet. DEV_STATUS_INVALID_ARGUMENT without layout. */

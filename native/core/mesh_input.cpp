@@ -1,5 +1,7 @@
 #include "core/mesh_input.h"
 
+#include "core/union_find.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -18,28 +20,6 @@ std::string triangle_text(const Triangles& triangles, Eigen::Index f) {
 }
 
 [[noreturn]] void fail(Status status, const std::string& message) { throw EngineError(status, message); }
-
-// A directed edge a -> b of triangle `face`, sortable by (a, b).
-struct DirectedEdge {
-  int from;
-  int to;
-  int face;
-  bool operator<(const DirectedEdge& o) const {
-    return from != o.from ? from < o.from : (to != o.to ? to < o.to : face < o.face);
-  }
-};
-
-std::vector<DirectedEdge> sorted_directed_edges(const Triangles& triangles) {
-  std::vector<DirectedEdge> edges;
-  edges.reserve(static_cast<size_t>(triangles.rows()) * 3);
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      edges.push_back({triangles(f, c), triangles(f, (c + 1) % 3), static_cast<int>(f)});
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  return edges;
-}
 
 void check_counts_and_indices(const Positions& positions, const Triangles& triangles) {
   if (positions.rows() == 0) fail(Status::empty_input, "the mesh has no vertices");
@@ -101,62 +81,53 @@ void check_duplicates(const Triangles& triangles) {
   }
 }
 
-void check_edges(const std::vector<DirectedEdge>& edges) {
-  for (size_t i = 1; i < edges.size(); ++i) {
-    if (edges[i].from != edges[i - 1].from || edges[i].to != edges[i - 1].to) continue;
-    // The same directed edge twice: either three or more triangles share the
-    // edge, or two neighbours disagree on orientation.
-    const int a = edges[i].from, b = edges[i].to;
-    size_t uses = 0;
-    for (const auto& e : edges) uses += (e.from == a && e.to == b) || (e.from == b && e.to == a);
-    std::ostringstream s;
-    s << "edge (" << a << ", " << b << ") ";
-    if (uses > 2) {
-      s << "is shared by " << uses << " triangles (a non-manifold edge)";
-    } else {
-      s << "is used in the same direction by triangles " << edges[i - 1].face << " and " << edges[i].face
-        << " (inconsistent orientation: flip one of them)";
+// Edges of more than two triangles. Either winding of a triangle is
+// accepted: which way neighbours run their shared edge is no error (an
+// inconsistently wound or one-sided mesh, orientation.h).
+void check_edges(const Triangles& triangles) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(static_cast<size_t>(triangles.rows()) * 3);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const auto a = static_cast<std::uint32_t>(triangles(f, c)),
+                 b = static_cast<std::uint32_t>(triangles(f, (c + 1) % 3));
+      keys.push_back(static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b));
     }
-    fail(Status::non_manifold, s.str());
+  std::sort(keys.begin(), keys.end());
+  for (size_t i = 0; i < keys.size();) {
+    size_t j = i + 1;
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    if (j - i > 2) {
+      std::ostringstream s;
+      s << "edge (" << (keys[i] >> 32) << ", " << (keys[i] & 0xffffffffu) << ") is shared by " << j - i
+        << " triangles (a non-manifold edge)";
+      fail(Status::non_manifold, s.str());
+    }
+    i = j;
   }
 }
 
-// A vertex is manifold when the link edges (a -> b for each triangle (v, a, b))
-// of its triangles form a single fan: one open chain or one closed cycle.
+// A vertex is manifold when its triangles form a single fan: their link
+// edges {a, b} (for each triangle (v, a, b), either winding) are connected.
+// Each link vertex is on at most two of them (check_edges ran first), so the
+// connected link is one chain or one cycle.
 void check_vertex_fans(const Triangles& triangles, const VertexFaces& table) {
-  std::vector<std::pair<int, int>> fan;
+  std::vector<std::pair<int, int>> ends;  // (link vertex, index of the triangle in the fan)
   for (Eigen::Index v = 0; v < table.vertex_count(); ++v) {
     const int count = table.count(v);
     if (count < 2) continue;
-    fan.clear();
-    for (const int* g = table.begin(v); g != table.end(v); ++g) {
-      const int c = triangles(*g, 0) == v ? 0 : (triangles(*g, 1) == v ? 1 : 2);
-      fan.emplace_back(triangles(*g, (c + 1) % 3), triangles(*g, (c + 2) % 3));
-    }
-    // Link edges a -> b are unique per source (check_edges ran first), so the
-    // link is a set of chains and cycles; a single fan walks through all of it
-    // from the one chain start, or from anywhere on the one cycle.
-    auto successor = [&](int a) {
-      for (int i = 0; i < count; ++i)
-        if (fan[i].first == a) return fan[i].second;
-      return -1;
-    };
-    int start = fan[0].first;
-    int chain_starts = 0;
+    ends.clear();
     for (int i = 0; i < count; ++i) {
-      bool has_predecessor = false;
-      for (int j = 0; j < count; ++j) has_predecessor |= fan[j].second == fan[i].first;
-      if (!has_predecessor) {
-        ++chain_starts;
-        start = fan[i].first;
-      }
+      const int g = table.begin(v)[i];
+      for (int c = 0; c < 3; ++c)
+        if (triangles(g, c) != v) ends.emplace_back(triangles(g, c), i);
     }
-    int visited = 0;
-    for (int at = successor(start); at >= 0 && visited < count; at = successor(at)) {
-      ++visited;
-      if (at == start) break;
-    }
-    if (chain_starts > 1 || visited != count) {
+    std::sort(ends.begin(), ends.end());
+    UnionFind fan(static_cast<size_t>(count));
+    int parts = count;
+    for (size_t k = 1; k < ends.size(); ++k)
+      if (ends[k].first == ends[k - 1].first && fan.unite(ends[k].second, ends[k - 1].second)) --parts;
+    if (parts > 1) {
       std::ostringstream s;
       s << "vertex " << v << " is non-manifold: its " << count
         << " triangles form more than one fan (the surface touches itself there)";
@@ -171,7 +142,7 @@ VertexFaces validate_mesh(const Positions& positions, const Triangles& triangles
   check_counts_and_indices(positions, triangles);
   check_degenerate(positions, triangles);
   check_duplicates(triangles);
-  check_edges(sorted_directed_edges(triangles));
+  check_edges(triangles);
   VertexFaces table = vertex_faces(triangles, positions.rows());
   check_vertex_fans(triangles, table);
   return table;

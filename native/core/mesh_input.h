@@ -16,11 +16,15 @@ namespace developable {
 //   degenerate_triangle    a vertex repeated in a triangle, or zero area
 //                          (area <= 1e-14 * bbox diagonal^2);
 //   duplicate_triangle     two triangles on the same three vertices;
-//   non_manifold           an edge shared by more than two triangles, an edge
-//                          used twice in the same direction (inconsistent
-//                          orientation), or a vertex whose triangles form
-//                          more than one fan.
-// Vertices that no triangle uses are allowed (they are never moved).
+//   non_manifold           an edge shared by more than two triangles (named
+//                          as "edge (a, b)", a < b, the first in that order),
+//                          or a vertex whose triangles form more than one fan.
+// Vertices that no triangle uses are allowed (they are never moved). So is
+// either winding of every triangle: neighbours that run their shared edge the
+// same way are no error, whether turning faces over can make them all agree
+// (an inconsistently wound mesh) or not (a one-sided surface, a Möbius
+// strip); orient_faces (orientation.h) tells the two apart and turns the
+// faces, and the C ABI runs the engine on the turned faces.
 // Returns the faces around each vertex, which the checks build anyway and
 // the later stages share (mesh_connectivity.h).
 VertexFaces validate_mesh(const Positions& positions, const Triangles& triangles);

@@ -80,26 +80,41 @@ TEST(MeshInput, DuplicateTriangleInAnyOrder) {
   EXPECT_NE(message.find("triangle 2"), std::string::npos) << message;
 }
 
-TEST(MeshInput, NonManifoldEdgeVertexAndOrientation) {
-  // Three triangles on edge (0, 1).
+TEST(MeshInput, NonManifoldEdgeAndVertex) {
+  // Three triangles on edge (0, 1), in either winding: the edge is named.
   Positions p(5, 3);
   p << 0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -1, 0, 0.5, 0, 1;
-  EXPECT_EQ(validation(p, rows({{0, 1, 2}, {1, 0, 3}, {0, 1, 4}})).first, Status::non_manifold);
-  // Inconsistent orientation: edge (0, 2) used twice in the same direction.
-  const auto [status, message] = validation(square(), rows({
-                                                          {0, 1, 2},
-                                                          {0, 2, 3},
-                                                      }));
-  EXPECT_EQ(status, Status::ok);
-  const auto flipped = validation(square(), rows({{0, 1, 2}, {3, 2, 0}}));
-  EXPECT_EQ(flipped.first, Status::non_manifold);
-  EXPECT_NE(flipped.second.find("orientation"), std::string::npos) << flipped.second;
-  // Two fans touching at vertex 0 (a bow tie).
+  for (const Triangles& fin : {rows({{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}), rows({{0, 1, 2}, {0, 1, 3}, {0, 1, 4}})}) {
+    const auto [status, message] = validation(p, fin);
+    EXPECT_EQ(status, Status::non_manifold);
+    EXPECT_NE(message.find("edge (0, 1) is shared by 3 triangles"), std::string::npos) << message;
+  }
+  // Two fans touching at vertex 0 (a bow tie), in either winding.
   Positions bow(5, 3);
   bow << 0, 0, 0, 1, 0, 0, 1, 1, 0, -1, 0, 0, -1, -1, 0;
-  const auto tie = validation(bow, rows({{0, 1, 2}, {0, 3, 4}}));
-  EXPECT_EQ(tie.first, Status::non_manifold);
-  EXPECT_NE(tie.second.find("vertex 0"), std::string::npos) << tie.second;
+  for (const Triangles& tie : {rows({{0, 1, 2}, {0, 3, 4}}), rows({{0, 1, 2}, {0, 4, 3}})}) {
+    const auto [status, message] = validation(bow, tie);
+    EXPECT_EQ(status, Status::non_manifold);
+    EXPECT_NE(message.find("vertex 0 is non-manifold"), std::string::npos) << message;
+  }
+  // A fan round vertex 4 whose link is one chain, wound any way, is manifold.
+  Positions fan(5, 3);
+  fan << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5, 0.5, 0.2;
+  EXPECT_EQ(validation(fan, rows({{0, 1, 4}, {2, 1, 4}, {2, 3, 4}, {3, 0, 4}})).first, Status::ok);
+  EXPECT_EQ(validation(fan, rows({{0, 1, 4}, {2, 1, 4}, {2, 3, 4}})).first, Status::ok);
+}
+
+TEST(MeshInput, EitherWindingIsAccepted) {
+  // Neighbours that run edge (0, 2) the same way: once refused as an
+  // inconsistent orientation, now the engine's to turn (orientation.h).
+  EXPECT_EQ(validation(square(), rows({{0, 1, 2}, {0, 2, 3}})).first, Status::ok);
+  EXPECT_EQ(validation(square(), rows({{0, 1, 2}, {3, 2, 0}})).first, Status::ok);
+  // A one-sided band: three quads round a triangle, the last one joined with
+  // half a twist (a Möbius strip), whatever the winding.
+  Positions band(6, 3);
+  band << 1, 0, 0, 1, 0, 1, -0.5, 0.87, 0, -0.5, 0.87, 1, -0.5, -0.87, 0, -0.5, -0.87, 1;
+  EXPECT_EQ(validation(band, rows({{0, 2, 3}, {0, 3, 1}, {2, 4, 5}, {2, 5, 3}, {4, 1, 0}, {4, 0, 5}})).first,
+            Status::ok);
 }
 
 TEST(MeshInput, UnusedVerticesAreAllowed) {

@@ -174,6 +174,9 @@ def verdict(name, stats, facts):
     if stats["result"] == RESULT_UNCHANGED:
         words = nothing_to_do(stats["unchanged_reason"], flat_threshold)
         if words is None and facts.flat_faces:
+            # The engine saw triangles and found nothing to improve; the user's faces say why. Its
+            # sentence (e.g. "try a larger tolerance") no longer applies, so it is not repeated.
+            engine = ""
             words = (
                 "it is already developable piecewise: its %s flat, its curvature sits on the edges where "
                 "they meet (Unfold Pattern lays them out as they are)"

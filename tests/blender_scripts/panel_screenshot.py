@@ -78,12 +78,12 @@ def build():
         bpy.data.objects.remove(o, do_unlink=True)
     if STATE in ("run", "advanced", "pattern"):
         ob = make("cone_band", *meshes.cone_band())
-        bpy.ops.mesh.make_developable(gauss_image=STATE == "run")
+        bpy.ops.mesh.make_developable()
         if STATE == "pattern":
             settings = bpy.context.scene.developable_pattern
             settings.auto_scale = True
             bpy.ops.mesh.unfold_pattern(filepath=os.path.join(tempfile.mkdtemp(), "cone_band.svg"))
-        return ob, (Vector((1.6, 0.0, 0.3)) if STATE == "run" else Vector((0.0, 0.0, 0.3)), 7.0)
+        return ob, (Vector((0.0, 0.0, 0.3)), 6.5)
     if STATE == "warnings":
         v, f = shapes.unwelded_sheet(nu=24, nv=12, seam=12)
         ob = make("plate", v, f)
@@ -112,8 +112,9 @@ def setup():
     space.overlay.show_floor = True
     rv3d = space.region_3d
     rv3d.view_perspective = "PERSP"
-    rv3d.view_location = centre
     rv3d.view_rotation = Euler((1.25, 0.0, 0.25)).to_quaternion()
+    # the object beside the sidebar, in the part of the viewport the picture keeps
+    rv3d.view_location = centre - rv3d.view_rotation @ Vector((0.33 * distance, 0.0, 0.0))
     rv3d.view_distance = distance
     bpy.app.timers.register(click_tab, first_interval=1.0)
 

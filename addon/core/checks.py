@@ -83,14 +83,14 @@ def bad_edges(triangles):
 
 def _manifold_pairs(triangles):
     """The triangle pairs across edges shared by exactly two triangles:
-    (first (k,), second (k,), opposite (k,) bool: the two use the edge in
+    (first (k,), second (k,), alike (k,) bool: the two use the edge in
     opposite directions, i.e. are oriented alike), and the sorted edges (k, 2)."""
     a, b, face = _edge_table(triangles)
     if a.size == 0:
         empty = np.zeros(0, np.int64)
         return empty, empty, np.zeros(0, bool), np.zeros((0, 2), np.int64)
     lo, hi = np.minimum(a, b), np.maximum(a, b)
-    order = np.lexsort((face, hi, lo))
+    order = np.argsort(lo * (int(hi.max()) + 1) + hi, kind="stable")  # faces stay in order within an edge
     lo, hi, face, forward = lo[order], hi[order], face[order], (a < b)[order]
     start = np.ones(len(lo), dtype=bool)
     start[1:] = (lo[1:] != lo[:-1]) | (hi[1:] != hi[:-1])
@@ -200,9 +200,13 @@ def boundary_vertices(triangles, n_vertices):
     mask = np.zeros(n_vertices, dtype=bool)
     if len(t) == 0:
         return mask
-    e = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
-    uniq, count = np.unique(e, axis=0, return_counts=True)
-    mask[uniq[count == 1].reshape(-1)] = True
+    a, b = t.reshape(-1), t[:, [1, 2, 0]].reshape(-1)
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    keys, count = np.unique(lo * max(n_vertices, int(hi.max()) + 1) + hi, return_counts=True)
+    single = keys[count == 1]
+    span = max(n_vertices, int(hi.max()) + 1)
+    mask[single // span] = True
+    mask[single % span] = True
     return mask
 
 

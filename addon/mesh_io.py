@@ -292,16 +292,21 @@ def _forget_all(*_args):
     _UNWELDED.clear()
 
 
+_HANDLERS = (
+    ("depsgraph_update_post", _forget_changed),
+    ("load_post", _forget_all),
+    ("undo_post", _forget_all),  # undo rebuilds the meshes: a pointer may then name another
+    ("redo_post", _forget_all),
+)
+
+
 def register():
-    bpy.app.handlers.depsgraph_update_post.append(_forget_changed)
-    bpy.app.handlers.load_post.append(_forget_all)
+    for name, fn in _HANDLERS:
+        getattr(bpy.app.handlers, name).append(fn)
 
 
 def unregister():
-    for handlers, fn in (
-        (bpy.app.handlers.depsgraph_update_post, _forget_changed),
-        (bpy.app.handlers.load_post, _forget_all),
-    ):
+    for handlers, fn in ((getattr(bpy.app.handlers, name), fn) for name, fn in _HANDLERS):
         if fn in handlers:
             handlers.remove(fn)
     _UNWELDED.clear()

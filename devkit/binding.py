@@ -1,19 +1,13 @@
 """addon/core/native.py, the one binding of the C ABI, for tests and benchmarks.
 
 The add-on's core imports no bpy (addon/__init__.py imports nothing at module
-level), so it is imported as a plain package from the checkout:
+level), so it is imported as a plain package from the checkout (on sys.path
+whenever devkit is importable):
 
     from devkit.binding import native      # the same module as addon.core.native
     native.load(path=devkit.paths.library_path())
     result = native.run(positions, triangles, params={"max_iterations": 5})"""
-import sys
-
-from .paths import REPO
-
-if str(REPO) not in sys.path:
-    sys.path.insert(0, str(REPO))
-
-from addon.core import native  # noqa: E402
+from addon.core import native  # the checkout holds devkit/ and addon/ side by side
 
 # The enumerated parameters by name, as benchmark cases and reports spell them.
 ENUMS = {

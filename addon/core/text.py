@@ -72,7 +72,10 @@ def wrap(text, fits):
     whole line is broken where the line ends."""
     if isinstance(fits, int):
         width = fits
-        fits = lambda line: len(line) <= width  # noqa: E731
+
+        def fits(line):
+            return len(line) <= width
+
     lines, line = [], ""
     for word in text.split():
         candidate = (line + " " + word).strip()

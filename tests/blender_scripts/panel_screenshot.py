@@ -32,9 +32,9 @@ from mathutils import Euler, Vector
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2]))  # devkit
-import panel_recorder  # noqa: E402
-import shapes  # noqa: E402
-from devkit import meshes  # noqa: E402
+import panel_recorder
+import shapes
+from devkit import meshes
 
 ARGS = sys.argv[sys.argv.index("--") + 1 :]
 OUT = os.path.abspath(ARGS[0])

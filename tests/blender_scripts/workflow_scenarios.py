@@ -21,9 +21,9 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.argv = [a for a in sys.argv]  # user_scenarios reads its own ARGS
-import panel_recorder  # noqa: E402
-import shapes  # noqa: E402
-import user_scenarios as u  # noqa: E402  (enables the add-on)
+import panel_recorder
+import shapes
+import user_scenarios as u  # enables the add-on
 
 ARGS = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
 PKG = u.PKG

@@ -1,16 +1,19 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Developable Mesh: make a mesh (nearly) developable by normal-guided deformation.
 
-Registration only; the parts live in their own modules:
-  native      ctypes binding of the C++ engine (libdevelopable.so)
-  checks      the add-on's own checks and figures (numpy, no bpy)
-  mesh_io     mesh <-> numpy buffers (foreach_get/foreach_set)
-  properties  engine parameters, pins, per-object record of the last run
-  operators   mesh.make_developable (synchronous execute, modal invoke)
-  writeback   shape key, attributes, colours, stats
+The package imports nothing from bpy until Blender calls register(), so that
+its core (core/: the engine's binding and every figure and check in numpy)
+can be imported from any Python: `from addon.core import native`. The
+Blender parts, each importing only the ones listed before it:
+  mesh_io     mesh <-> numpy buffers (foreach_get/foreach_set), the shape shown,
+              the unwelded-seam check the panel shows
+  writeback   shape key, attributes, colours, the record of a run
   gauss_image the Gauss image objects
-  panels      the sidebar tab "Developable"
-  pattern     mesh.unfold_pattern, its settings and sub-panel (flat pieces, SVG)
+  properties  the settings (scene and operators), the records of a run
+  panels      the sidebar tab "Developable" and the redo panel's layout (draws only)
+  modal       the modal loop shared by the operators (worker thread, status bar, Esc)
+  operators   mesh.make_developable, mesh.developable_weld
+  pattern     mesh.unfold_pattern (flat pieces, SVG)
 
 Works as a legacy add-on (bl_info, Blender 3.x) and as a 4.2+ extension
 (blender_manifest.toml beside this file); the package name is never assumed.
@@ -27,36 +30,52 @@ bl_info = {
     "doc_url": "",
 }
 
-if "bpy" in locals():  # script reload (F8 / addon_utils)
+# The modules in import order (each imports only those before it); register()
+# registers the Blender ones in this order, unregister() in reverse.
+CORE_MODULES = (
+    "core.text",
+    "core.native",
+    "core.checks",
+    "core.colours",
+    "core.presets",
+    "core.verdict",
+    "core.estimate",
+    "core.jobs",
+)
+BLENDER_MODULES = ("mesh_io", "writeback", "gauss_image", "properties", "panels", "modal", "operators", "pattern")
+
+# importlib.reload (F8, or the add-on enabled again) keeps the old namespace:
+# then register() reloads the modules too, so that edited files take effect.
+_reloaded = "register" in globals()
+
+
+def _modules():
     import importlib
+    import sys
 
-    for _m in (
-        native,
-        checks,
-        mesh_io,
-        properties,
-        writeback,
-        gauss_image,
-        operators,
-        panels,  # noqa: F821
-        pattern,
-    ):  # noqa: F821
-        importlib.reload(_m)
-
-import bpy
-
-from . import native, checks, mesh_io, properties, writeback, gauss_image
-from . import operators, panels, pattern
-
-# pattern after panels: its sub-panel's parent
-_modules = (properties, operators, panels, pattern, gauss_image)
+    modules = []
+    for name in CORE_MODULES + BLENDER_MODULES:
+        full = "%s.%s" % (__name__, name)
+        module = sys.modules.get(full)
+        if module is not None and _reloaded:
+            module = importlib.reload(module)
+        modules.append(module or importlib.import_module(full))
+    return modules[len(CORE_MODULES) :]
 
 
 def register():
-    for m in _modules:
-        m.register()
+    global _reloaded
+    modules = _modules()
+    _reloaded = False
+    for module in modules:
+        if hasattr(module, "register"):
+            module.register()
 
 
 def unregister():
-    for m in reversed(_modules):
-        m.unregister()
+    import importlib
+
+    for name in reversed(BLENDER_MODULES):
+        module = importlib.import_module("%s.%s" % (__name__, name))
+        if hasattr(module, "unregister"):
+            module.unregister()

@@ -15,7 +15,7 @@ import bmesh
 import bpy
 import numpy as np
 
-from .checks import face_normals
+from .core.checks import face_normals
 
 PREFIX = "Gauss Image: "
 DOT_RADIUS = 0.02

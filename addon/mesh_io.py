@@ -6,9 +6,10 @@ The user's polygons are never changed: the engine gets mesh.loop_triangles,
 and triangle results are mapped back to polygons with loop_triangle.polygon_index.
 """
 
+import bpy
 import numpy as np
 
-import bpy
+from .core import checks
 
 
 class MeshBuffers:
@@ -52,14 +53,15 @@ def read_selection(mesh):
     return sel
 
 
-def read_vertex_group(obj, group_name):
-    """Weights (n,) float32 of vertex group `group_name` (0 where unassigned).
+def read_vertex_group(obj, group_name, mesh=None):
+    """Weights (n,) float32 of the object's vertex group `group_name` (0 where
+    unassigned), of its own mesh or of `mesh` (one made from it).
 
     Vertex groups are not part of the Python attribute API, so a throw-away
     object with a one-node Geometry Nodes modifier copies the group into a
     generic point attribute that foreach_get can read in bulk.
     """
-    mesh = obj.data
+    mesh = mesh or obj.data
     n = len(mesh.vertices)
     if not group_name or group_name not in obj.vertex_groups or n == 0:
         return np.zeros(n, dtype=np.float32)
@@ -223,3 +225,88 @@ def select_in_edit_mode(obj, vertices=(), edges=(), polygons=()):
     for p in np.asarray(polygons, dtype=np.int64).reshape(-1)[:100000]:
         bm.faces[int(p)].select = True
     bmesh.update_edit_mesh(obj.data)
+
+
+# ---------------------------------------------------------------------------
+# Modifiers: the shape the viewport shows may not be the mesh's own.
+
+
+def shown_modifiers(obj):
+    """Names of the object's modifiers shown in the viewport."""
+    return [m.name for m in obj.modifiers if m.show_viewport]
+
+
+def mesh_as_shown(obj, name):
+    """A new mesh datablock holding what the viewport shows of the object (its
+    modifiers and shape keys applied, as Object > Convert > Mesh makes it),
+    with the object's vertex groups and attributes kept where the modifiers
+    keep them. Not linked to anything: the caller assigns or removes it."""
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = bpy.data.meshes.new_from_object(evaluated, preserve_all_data_layers=True, depsgraph=depsgraph)
+    mesh.name = name
+    return mesh
+
+
+# ---------------------------------------------------------------------------
+# Unwelded seams, for the panel: cached per mesh until its geometry changes.
+
+_UNWELDED = {}  # mesh pointer -> (vertex, edge, polygon counts, unwelded vertices)
+
+
+def boundary_mask(mesh):
+    """Vertices on an edge that only one face uses, from Blender's own edges."""
+    n = len(mesh.vertices)
+    edge_index = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("edge_index", edge_index)
+    uses = np.bincount(edge_index, minlength=len(mesh.edges))
+    ev = np.empty(len(mesh.edges) * 2, dtype=np.int32)
+    mesh.edges.foreach_get("vertices", ev)
+    mask = np.zeros(n, dtype=bool)
+    mask[ev.reshape(-1, 2)[uses == 1].reshape(-1)] = True
+    return mask
+
+
+def unwelded(mesh):
+    """The mesh's unwelded vertices (checks.unwelded_vertices), cached until
+    its geometry changes (the depsgraph handler below forgets it then)."""
+    key = mesh.as_pointer()
+    counts = (len(mesh.vertices), len(mesh.edges), len(mesh.polygons))
+    cached = _UNWELDED.get(key)
+    if cached is not None and cached[0] == counts:
+        return cached[1]
+    found = checks.unwelded_vertices(read_positions(mesh), boundary_mask(mesh))
+    _UNWELDED[key] = (counts, found)
+    return found
+
+
+@bpy.app.handlers.persistent
+def _forget_changed(_scene, depsgraph):
+    for update in depsgraph.updates:
+        if update.is_updated_geometry and isinstance(update.id, bpy.types.Object) and update.id.type == "MESH":
+            _UNWELDED.pop(update.id.original.data.as_pointer(), None)
+
+
+@bpy.app.handlers.persistent
+def _forget_all(*_args):
+    _UNWELDED.clear()
+
+
+_HANDLERS = (
+    ("depsgraph_update_post", _forget_changed),
+    ("load_post", _forget_all),
+    ("undo_post", _forget_all),  # undo rebuilds the meshes: a pointer may then name another
+    ("redo_post", _forget_all),
+)
+
+
+def register():
+    for name, fn in _HANDLERS:
+        getattr(bpy.app.handlers, name).append(fn)
+
+
+def unregister():
+    for handlers, fn in ((getattr(bpy.app.handlers, name), fn) for name, fn in _HANDLERS):
+        if fn in handlers:
+            handlers.remove(fn)
+    _UNWELDED.clear()

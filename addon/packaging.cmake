@@ -3,7 +3,7 @@
 # Included (OPTIONAL) at the end of the top-level CMakeLists.txt, it defines
 #   cmake --build build --target addon_zip
 # which writes build/dist/developable_mesh-<version>-linux-x64.zip holding one
-# folder, developable_mesh/, with the Python package, blender_manifest.toml and
+# folder, developable_mesh/, with the Python package (and its core/ subpackage), blender_manifest.toml and
 # the native library. The library needs only the C/C++ runtimes; should it
 # ever link anything else, that is copied beside it (and the build fails on a
 # dependency it cannot resolve).
@@ -29,6 +29,8 @@ if(CMAKE_SCRIPT_MODE_FILE)
 
   file(GLOB py_files "${SOURCE_DIR}/addon/*.py")
   file(COPY ${py_files} DESTINATION "${folder}")
+  file(GLOB core_files "${SOURCE_DIR}/addon/core/*.py")
+  file(COPY ${core_files} DESTINATION "${folder}/core")
   file(COPY "${SOURCE_DIR}/blender_manifest.toml" DESTINATION "${folder}")
   if(EXISTS "${SOURCE_DIR}/LICENSE")
     file(COPY "${SOURCE_DIR}/LICENSE" DESTINATION "${folder}")
@@ -79,7 +81,7 @@ endif()
 
 # ---- configure time: the target ----
 if(TARGET developable_engine)
-  file(GLOB _ADDON_PY CONFIGURE_DEPENDS "${CMAKE_SOURCE_DIR}/addon/*.py")
+  file(GLOB _ADDON_PY CONFIGURE_DEPENDS "${CMAKE_SOURCE_DIR}/addon/*.py" "${CMAKE_SOURCE_DIR}/addon/core/*.py")
   add_custom_target(addon_zip
     COMMAND "${CMAKE_COMMAND}"
       "-DSOURCE_DIR=${CMAKE_SOURCE_DIR}"

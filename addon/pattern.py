@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Unfold Pattern: the flat pieces of the "Developable" shape key (or of the
-base mesh when there is none) through dev_unfold.
+base mesh when there is none) through dev_unfold, for every selected mesh.
 
 Writes, all undoable in one step, nothing to the base mesh's coordinates:
   - the UV map "Developable Pattern": one island per piece, laid out like the
@@ -9,20 +9,30 @@ Writes, all undoable in one step, nothing to the base mesh's coordinates:
     that open bands and tubes, the splits (added to the user's own seams);
   - the face attribute "pattern_strain": the largest relative edge-length
     change of the face's triangles in the flat map;
-  - the SVG sheets (when the export is on) and the figures shown in the panel.
+  - the SVG sheets (when the export is on), one set per object, and the
+    figures shown in the panel (object.developable_pattern).
 
-Settings (scene.developable_pattern), the per-object figures
-(object.developable_pattern), the operator and the sub-panel of the
-Developable panel live here."""
+Runs like Make Developable (modal.py): with a window on a worker thread with
+the progress in the status bar, Esc cancelling. Nothing is written until
+every object's unfolding is done (the SVG files go to a temporary folder and
+are moved into place at the end), so a cancel leaves nothing behind, and a
+failed object gets its error in its record, not the figures of an earlier
+unfolding as if they were new. The sub-panel is drawn by panels.py."""
 
 import os
+import shutil
+import tempfile
 
 import bpy
 import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
-from bpy.types import Operator, Panel, PropertyGroup
+from bpy.types import Operator, PropertyGroup
 
-from . import checks, mesh_io, native, writeback
+from . import mesh_io, writeback
+from .core import checks, native
+from .core.jobs import Job
+from .core.text import percent, plural
+from .modal import ModalRun, Refused, cancelled_by_user, restore_mode
 
 UV_MAP = "Developable Pattern"
 STRAIN = "pattern_strain"
@@ -53,13 +63,13 @@ class DevelopablePatternSettings(PropertyGroup):
     export_svg: BoolProperty(name="Export SVG", default=True, description="Write the sheets as SVG at true scale")
     sheet: EnumProperty(name="Sheet", items=SHEETS, default="A4", description="Paper size, portrait")
     sheet_width: FloatProperty(
-        name="Width", default=210.0, min=10.0, max=10000.0, unit="NONE", description="Custom sheet width, mm"
+        name="Width (mm)", default=210.0, min=10.0, max=10000.0, description="Custom sheet width, mm"
     )
     sheet_height: FloatProperty(
-        name="Height", default=297.0, min=10.0, max=10000.0, description="Custom sheet height, mm"
+        name="Height (mm)", default=297.0, min=10.0, max=10000.0, description="Custom sheet height, mm"
     )
     margin: FloatProperty(
-        name="Margin", default=10.0, min=0.0, max=100.0, description="Free margin on every side of a sheet, mm"
+        name="Margin (mm)", default=10.0, min=0.0, max=100.0, description="Free margin on every side of a sheet, mm"
     )
     auto_scale: BoolProperty(
         name="Fit Scale",
@@ -88,7 +98,7 @@ class DevelopablePatternSettings(PropertyGroup):
         "this; 0 splits only pieces that would overlap",
     )
     seam_allowance: FloatProperty(
-        name="Seam Allowance",
+        name="Seam Allowance (mm)",
         default=0.0,
         min=0.0,
         max=100.0,
@@ -97,7 +107,7 @@ class DevelopablePatternSettings(PropertyGroup):
         "the seam line. 0 cuts on the outline",
     )
     glue_tabs: FloatProperty(
-        name="Glue Tabs",
+        name="Glue Tabs (mm)",
         default=0.0,
         min=0.0,
         max=100.0,
@@ -111,6 +121,8 @@ class DevelopablePatternRecord(PropertyGroup):
     """Figures of the object's last unfolding (undone with it)."""
 
     has_result: BoolProperty(default=False)
+    error: StringProperty(name="Error", description="Why the last unfolding of this object failed (empty if none)")
+    warning: StringProperty(name="Warning", description="What the last unfolding should make the user check")
     pieces: IntProperty(name="Pieces")
     sheets: IntProperty(name="Sheets")
     seams: IntProperty(name="Seams")
@@ -226,12 +238,37 @@ def write_strain(mesh, pattern, buffers):
     attr.data.foreach_set("value", per_face)
 
 
-class MESH_OT_unfold_pattern(Operator):
-    """Unfold the developable patches into flat pieces: a UV map, seams, a strain attribute and SVG sheets at true scale"""
+class _Target:
+    def __init__(self, name):
+        self.name = name
+        self.buffers = None
+        self.source = ""
+        self.svg = ""  # where the SVG goes in the end ("" for none)
+        self.unwelded = 0
+        self.modifiers = []
+        self.pattern = None  # native.Pattern, once unfolded
+
+
+def svg_paths(path, names):
+    """Where each object's SVG goes: the path itself for one object, else one
+    file per object named after it (pattern-Cube.svg)."""
+    if not path:
+        return {n: "" for n in names}
+    if len(names) == 1:
+        return {names[0]: path}
+    stem = path[: -len(".svg")] if path.lower().endswith(".svg") else path
+    safe = {n: "".join(c if c.isalnum() or c in "-_." else "_" for c in n) for n in names}
+    return {n: "%s-%s.svg" % (stem, safe[n]) for n in names}
+
+
+class MESH_OT_unfold_pattern(Operator, ModalRun):
+    """Unfold the developable patches of the selected meshes into flat pieces: a UV map, seams, a \
+strain attribute and SVG sheets at true scale"""
 
     bl_idname = "mesh.unfold_pattern"
     bl_label = "Unfold Pattern"
     bl_options = {"REGISTER", "UNDO"}
+    status_label = "Unfold Pattern"
 
     filepath: StringProperty(
         name="File",
@@ -246,166 +283,225 @@ class MESH_OT_unfold_pattern(Operator):
         obj = context.active_object
         return obj is not None and obj.type == "MESH"
 
-    def execute(self, context):
-        obj = context.active_object
-        settings = context.scene.developable_pattern
+    def _begin(self, context):
+        """Targets, paths; leaves Edit mode. Returns the targets or None (reported)."""
         lib, err = native.try_load()
         if lib is None:
             self.report({"ERROR"}, err)
-            return {"CANCELLED"}
+            return None
+        settings = context.scene.developable_pattern
         path = ""
         if settings.export_svg or self.filepath:
             raw = self.filepath or settings.filepath
             if raw.startswith("//") and not bpy.data.filepath:
                 self.report({"ERROR"}, "Save the .blend file first or choose an absolute path for the SVG")
-                return {"CANCELLED"}
+                return None
             path = os.path.abspath(bpy.path.abspath(raw))
             if not path.lower().endswith(".svg"):
                 path += ".svg"
-        was_edit = obj.mode == "EDIT"
-        if was_edit:
-            bpy.ops.object.mode_set(mode="OBJECT")
-        try:
-            mesh = obj.data
-            buffers = mesh_io.read_mesh(mesh)
-            if len(buffers.triangles) == 0:
-                self.report({"ERROR"}, "The mesh has no faces")
-                return {"CANCELLED"}
-            try:
-                positions, source = source_positions(obj)
-            except mesh_io.MeshInputError as exc:
-                self.report({"ERROR"}, str(exc))
-                return {"CANCELLED"}
-            try:
-                # A polygon's triangles stay in one piece: one UV island per piece.
-                pattern = native.unfold(
-                    positions,
-                    buffers.triangles,
-                    triangle_patches(mesh, buffers),
-                    pattern_params(settings, context.scene),
-                    svg_path=path or None,
-                    face_groups=buffers.tri_polygon,
+        active = context.active_object
+        objs = [active] + [o for o in context.selected_objects if o.type == "MESH" and o != active]
+        self._notes = []
+        others = sorted(o.name for o in context.selected_objects if o.type != "MESH")
+        if others:
+            self._notes.append(
+                (
+                    {"INFO"},
+                    "%s not a mesh, left out: %s"
+                    % (plural(len(others), "object is", "objects are"), ", ".join(others)),
                 )
-            except native.EngineError as exc:
-                self.report({"ERROR"}, "Cannot unfold the pattern (%s): %s" % (exc.status_name, exc.message))
-                return {"CANCELLED"}
-            width, height = sheet_size(settings)
-            write_uv_map(mesh, pattern, height, width)
-            mark_seams(mesh, pattern)
-            write_strain(mesh, pattern, buffers)
-            mesh.update()
-            st = pattern.stats
-            rec = obj.developable_pattern
-            rec.has_result = True
-            rec.pieces = int(st["pieces"])
-            rec.sheets = int(st["sheets"])
-            rec.seams = int(st["seams"])
-            rec.splits = int(st["splits"])
-            rec.worst_strain = 100.0 * st["max_strain"]
-            rec.mean_strain = 100.0 * st["mean_strain"]
-            rec.scale = st["scale"]
-            rec.files = "; ".join(pattern.files)
-            rec.source = source
-        finally:
-            if was_edit:
-                bpy.ops.object.mode_set(mode="EDIT")
-        where = (
-            (
-                " to %s" % pattern.files[0]
-                + (" and %d more" % (len(pattern.files) - 1) if len(pattern.files) > 1 else "")
             )
-            if pattern.files
-            else ""
-        )
-        pieces = checks.plural(st["pieces"], "piece", "pieces")
-        sheets = checks.plural(st["sheets"], "sheet", "sheets")
-        self.report(
-            {"INFO"},
-            "%s on %s from the %s, worst strain %.3g %%%s" % (pieces, sheets, source, 100.0 * st["max_strain"], where),
-        )
+        seen, targets = set(), []
+        for o in objs:
+            if o.data.name in seen:
+                self._notes.append(
+                    ({"INFO"}, "%s shares its mesh with another selected object: unfolded once" % o.name)
+                )
+                continue
+            seen.add(o.data.name)
+            targets.append(_Target(o.name))
+        for t, svg in zip(targets, svg_paths(path, [t.name for t in targets]).values()):
+            t.svg = svg
+        self._folder = tempfile.mkdtemp(prefix="developable-pattern-") if path else ""
+        self._was_edit = active.mode == "EDIT"
+        self._active_name = active.name
+        self._select_errors = None
+        if self._was_edit:
+            bpy.ops.object.mode_set(mode="OBJECT")
+        return targets
+
+    def prepare(self, context, target):
+        obj = bpy.data.objects.get(target.name)
+        if obj is None or obj.type != "MESH":
+            raise Refused("%s is gone; nothing was written" % target.name)
+        mesh = obj.data
+        buffers = mesh_io.read_mesh(mesh)
+        if len(buffers.triangles) == 0:
+            raise Refused("Cannot unfold %s: it has no faces" % obj.name)
+        try:
+            positions, target.source = source_positions(obj)
+        except mesh_io.MeshInputError as exc:
+            raise Refused("Cannot unfold %s: %s" % (obj.name, exc)) from None
+        buffers.positions = positions
+        target.buffers = buffers
+        target.modifiers = mesh_io.shown_modifiers(obj)
+        if np.isfinite(positions).all():
+            on_boundary = checks.boundary_vertices(buffers.triangles, buffers.n_vertices)
+            target.unwelded = len(checks.unwelded_vertices(positions, on_boundary))
+        settings = context.scene.developable_pattern
+        params = pattern_params(settings, context.scene)
+        patches = triangle_patches(mesh, buffers)
+        svg = os.path.join(self._folder, os.path.basename(target.svg)) if target.svg else None
+
+        def work(progress):
+            # A polygon's triangles stay in one piece: one UV island per piece.
+            return native.unfold(
+                positions,
+                buffers.triangles,
+                patches,
+                params,
+                svg_path=svg,
+                face_groups=buffers.tri_polygon,
+                progress=progress,
+            )
+
+        return Job(work, data=target)
+
+    def finish_one(self, context, target, job):
+        """Keeps the pattern until every object is done; returns (level, message)."""
+        obj = bpy.data.objects.get(target.name)
+        if job.error is None:
+            target.pattern = job.result
+            return {"INFO"}, ""
+        exc = job.error
+        if cancelled_by_user(job):
+            return {"WARNING"}, "Cancelled: nothing was unfolded or written"
+        text = "Cannot unfold %s: %s" % (target.name, exc)
+        if isinstance(exc, native.EngineError) and obj is not None:
+            buffers = target.buffers
+            world = buffers.positions + np.array(obj.matrix_world, dtype=np.float64)[:3, 3]
+            selection, text = checks.describe_problem(
+                obj.name,
+                "unfold %s" % obj.name,
+                exc.status,
+                exc.status_name,
+                exc.message,
+                world,
+                buffers.triangles,
+                buffers.tri_polygon,
+            )
+            if selection is not None and self._select_errors is None:
+                self._select_errors = (obj.name, selection)
+        if obj is not None:
+            obj.developable_pattern.error = text
+        return {"ERROR"}, text
+
+    def _write(self, context, target, pattern):
+        """One object's unfolding into its mesh, record and files; returns the report lines."""
+        obj = bpy.data.objects[target.name]
+        mesh = obj.data
+        settings = context.scene.developable_pattern
+        width, height = sheet_size(settings)
+        write_uv_map(mesh, pattern, height, width)
+        mark_seams(mesh, pattern)
+        write_strain(mesh, pattern, target.buffers)
+        mesh.update()
+        files = []
+        for temporary in pattern.files:
+            final = os.path.join(os.path.dirname(target.svg), os.path.basename(temporary))
+            os.makedirs(os.path.dirname(final), exist_ok=True)
+            shutil.move(temporary, final)
+            files.append(final)
+        st = pattern.stats
+        lines = []
+        warnings = []
+        if target.unwelded:
+            warnings.append(
+                "%s lie on another boundary vertex (seams never welded): its parts were unfolded apart; "
+                "Merge by Distance (Developable panel) welds them" % plural(target.unwelded, "vertex", "vertices")
+            )
+        if target.modifiers:
+            warnings.append(
+                "unfolded without its modifiers (%s): apply them, or make the shape as shown developable "
+                "first (Modifiers: As Shown)" % ", ".join(target.modifiers)
+            )
         if st["glue_tabs_dropped"] > 0:
-            self.report(
-                {"WARNING"},
-                "%s without a glue tab: none fitted on either side, not even at "
-                "half the height" % checks.plural(st["glue_tabs_dropped"], "seam", "seams"),
+            warnings.append(
+                "%s without a glue tab: none fitted on either side, not even at half the height"
+                % plural(st["glue_tabs_dropped"], "seam", "seams")
             )
         if st["cut_lines_from_hull"] > 0:
-            self.report(
-                {"WARNING"},
-                "The cut lines of %s follow the convex hull: the seam allowance is "
-                "wider than asked in the hollows" % checks.plural(st["cut_lines_from_hull"], "piece", "pieces"),
+            warnings.append(
+                "the cut lines of %s follow the convex hull: the seam allowance is wider than asked in the "
+                "hollows" % plural(st["cut_lines_from_hull"], "piece", "pieces")
             )
-        return {"FINISHED"}
-
-
-def scale_text(scale):
-    if scale <= 0:
-        return "-"
-    return ("%g:1" % scale) if scale >= 1 else ("1:%g" % round(1.0 / scale, 6))
-
-
-class VIEW3D_PT_developable_pattern(Panel):
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Developable"
-    bl_parent_id = "VIEW3D_PT_developable"
-    bl_label = "Flat Pattern"
-    bl_options = {"DEFAULT_CLOSED"}
-
-    def draw(self, context):
-        layout = self.layout
-        settings = context.scene.developable_pattern
-        col = layout.column(align=True)
-        col.prop(settings, "sheet")
-        if settings.sheet == "CUSTOM":
-            row = col.row(align=True)
-            row.prop(settings, "sheet_width")
-            row.prop(settings, "sheet_height")
-        col.prop(settings, "margin")
-        col.prop(settings, "unit")
-        row = col.row(align=True)
-        row.prop(settings, "auto_scale")
-        sub = row.row(align=True)
-        sub.enabled = not settings.auto_scale
-        sub.prop(settings, "scale")
-        col.prop(settings, "seam_tolerance")
-        # One or the other: the set one greys the other out.
-        row = col.row(align=True)
-        row.enabled = settings.glue_tabs == 0.0
-        row.prop(settings, "seam_allowance")
-        row = col.row(align=True)
-        row.enabled = settings.seam_allowance == 0.0
-        row.prop(settings, "glue_tabs")
-        col = layout.column(align=True)
-        col.prop(settings, "export_svg")
-        sub = col.row()
-        sub.enabled = settings.export_svg
-        sub.prop(settings, "filepath", text="")
-        row = layout.row()
-        row.scale_y = 1.3
-        row.operator(MESH_OT_unfold_pattern.bl_idname, icon="UV")
-        obj = context.active_object
-        if obj is None or obj.type != "MESH" or not obj.developable_pattern.has_result:
-            return
         rec = obj.developable_pattern
-        box = layout.box()
-        grid = box.grid_flow(columns=2, even_columns=True, align=True)
-        for label, value in (
-            ("Pieces", "%d" % rec.pieces),
-            ("Sheets", "%d" % rec.sheets),
-            ("Worst strain", "%.3g %%" % rec.worst_strain),
-            ("Mean strain", "%.3g %%" % rec.mean_strain),
-            ("Seams", "%d" % rec.seams),
-            ("Scale", scale_text(rec.scale)),
-        ):
-            grid.label(text=label)
-            grid.label(text=value)
-        box.label(text="From the %s" % rec.source)
-        if rec.splits:
-            box.label(text="%d splits where a piece would overlap or stretch its seams" % rec.splits, icon="INFO")
+        rec.has_result = True
+        rec.error = ""
+        rec.warning = "; ".join(warnings)[:1000]
+        rec.pieces = int(st["pieces"])
+        rec.sheets = int(st["sheets"])
+        rec.seams = int(st["seams"])
+        rec.splits = int(st["splits"])
+        rec.worst_strain = 100.0 * st["max_strain"]
+        rec.mean_strain = 100.0 * st["mean_strain"]
+        rec.scale = st["scale"]
+        rec.files = "; ".join(files)
+        rec.source = target.source
+        where = ""
+        if files:
+            where = " to %s" % files[0] + (" and %d more" % (len(files) - 1) if len(files) > 1 else "")
+        lines.append(
+            (
+                {"INFO"},
+                "%s: %s on %s from the %s, worst strain %s%s"
+                % (
+                    obj.name,
+                    plural(st["pieces"], "piece", "pieces"),
+                    plural(st["sheets"], "sheet", "sheets"),
+                    target.source,
+                    percent(100.0 * st["max_strain"]),
+                    where,
+                ),
+            )
+        )
+        lines += [({"WARNING"}, "%s: %s" % (obj.name, w)) for w in warnings]
+        return lines
+
+    def finish_all(self, context, results, cancelled):
+        try:
+            reports = list(self._notes)
+            written = 0
+            if not cancelled:
+                for target, _, _ in results:
+                    if target.pattern is not None:
+                        reports += self._write(context, target, target.pattern)
+                        written += 1
+            reports += [(level, message) for _, level, message in results if message]
+            for level, message in reports:
+                self.report(level, message)
+            return {"FINISHED"} if written else {"CANCELLED"}
+        finally:
+            if self._folder:
+                shutil.rmtree(self._folder, ignore_errors=True)
+            restore_mode(context, self._select_errors, self._was_edit, self._active_name)
+
+    def execute(self, context):
+        targets = self._begin(context)
+        if targets is None:
+            return {"CANCELLED"}
+        return self.run_all(context, targets)
+
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        targets = self._begin(context)
+        if targets is None:
+            return {"CANCELLED"}
+        return self.run_modal(context, targets)
 
 
-classes = (DevelopablePatternSettings, DevelopablePatternRecord, MESH_OT_unfold_pattern, VIEW3D_PT_developable_pattern)
+classes = (DevelopablePatternSettings, DevelopablePatternRecord, MESH_OT_unfold_pattern)
 
 
 def register():

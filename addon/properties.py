@@ -12,78 +12,42 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 from bpy.types import PropertyGroup
 
-from . import native
+from . import gauss_image, writeback
+from .core import native, presets
 
-# ---------------------------------------------------------------------------
-# Presets: a job in the user's words -> the settings it implies. Values not
-# named keep the "General" (engine default) value. Tuned on the generated test
-# meshes and docs/human-woman.md; see docs/addon.md.
+# The jobs (presets) and the settings each implies: core/presets.py.
+GENERAL, PRESETS, PRESET_ITEMS = presets.GENERAL, presets.PRESETS, presets.PRESET_ITEMS
 
-GENERAL = {
-    "move_limit": 1.0,
-    "limit_in_edges": False,
-    "tolerance": 10.0,
-    "omega": 5.0,
-    "max_iterations": 400,
-    "mode": "REFIT",
-    "solver": "DECOUPLED",
-    "pin_boundary": False,
-    "use_mls_weights": True,
-    "stop_relative_change": 0.001,
-    "developable_threshold": -10,
-    "segmentation": "AUTO",
-    "auto_target_patches": True,
-    "auto_segment_max_error": True,
-    "seams": "FREE",
-    "auto_grid_resolution": True,
-    "auto_target_smoothing": True,
-    "polish": "AUTO",
-    "polish_smoothed_input": True,
-}
-PRESETS = {
-    "GENERAL": {},
-    "SHEET": {"segmentation": "OFF", "move_limit": 2.0},
-    "GARMENT": {"segmentation": "AUTO", "move_limit": 3.0},
-    "OBJECT": {"segmentation": "ON", "move_limit": 1.0},
-    "PAPER": {
-        "mode": "PAPER",
-        "solver": "COUPLED",
-        "limit_in_edges": True,
-        "tolerance": 10.0,
-        "omega": 5.0,
-        "pin_boundary": True,
-        "seams": "PINNED",
-    },
-    "CUSTOM": None,  # set by hand: nothing to apply
-}
-PRESET_ITEMS = [
-    ("GENERAL", "General", "Automatic choices for any mesh; the shape may move 1 % of its size"),
+# What is made developable when the object has modifiers: the shape the viewport
+# shows (the modifiers' result) or the mesh beneath them. A shape key cannot
+# carry the modifiers' result when they change the topology, and once a mesh has
+# shape keys Blender refuses to apply its modifiers: hence a new object, or the
+# modifiers applied first.
+MODIFIER_ITEMS = [
     (
-        "SHEET",
-        "Clean up a scanned sheet",
-        "One piece (no splitting), for a noisy scan or a "
-        "sculpted panel that should become one smooth developable sheet; moves at most 2 % of the "
-        "size",
+        "NEW_OBJECT",
+        "As Shown: New Object",
+        "Make the shape you see developable (the modifiers' result), as a new object beside this one; "
+        "this object and its modifiers are left as they are",
     ),
     (
-        "GARMENT",
-        "Garment / soft piece",
-        "A cloth-like piece that may split where it curves " "both ways; moves at most 3 % of the size",
+        "APPLY",
+        "As Shown: Apply Them",
+        "Apply the modifiers (and the shape keys shown) to this object first, as Object > Convert > "
+        "Mesh does, then make it developable",
     ),
     (
-        "OBJECT",
-        "Whole object into pieces",
-        "A closed object (a character, a toy) split into "
-        "developable pieces that meet at seams; moves at most 1 % of the size",
+        "BASE",
+        "The Mesh Beneath",
+        "Make the mesh without its modifiers developable; the modifiers stay on top of the result, "
+        "and its shape key then stops Blender from applying them",
     ),
-    (
-        "PAPER",
-        "Paper's settings",
-        "As in the paper: fixed targets, the coupled system, the "
-        "boundary and the seams pinned, limit 10 average edge lengths (E_allow = 10 AE, \u03c9 = 5)",
-    ),
-    ("CUSTOM", "Custom", "Settings changed by hand"),
 ]
+MODIFIER_WORDS = {
+    "NEW_OBJECT": "the shape as shown, into a new object",
+    "APPLY": "the shape as shown, modifiers applied",
+    "BASE": "the mesh beneath its modifiers",
+}
 
 # Engine fields whose sentinel means "automatic": name -> sentinel.
 AUTOMATIC = {"target_patches": 0, "segment_max_error": 0.0, "grid_resolution": 0, "target_smoothing": -1}
@@ -231,11 +195,12 @@ def engine_property_definitions():
             description="How the target directions of the faces are updated between steps",
         ),
         "pin_boundary": BoolProperty(
-            name="Pin Boundary",
+            name="Keep the Boundary",
             default=False,
             update=u,
-            description="Keep every boundary vertex where it is (position constraints, as in "
-            "the paper's Fig. 3 and 4)",
+            description="Every boundary vertex stays where it is, so mating edges keep their lengths and "
+            "shape exactly (a duct that must fit its pipe, a panel its frame); on for the job 'Sheet "
+            "metal / duct'. Off, the boundary may move like the rest (a scan's ragged edge is smoothed)",
         ),
         "use_mls_weights": BoolProperty(
             name="Soft Falloff Around Pins",
@@ -400,6 +365,12 @@ def extra_property_definitions():
             update=u,
             description="Set the limit in average edge lengths (the paper's E_allow) instead of " "'Shape May Move'",
         ),
+        "modifiers": EnumProperty(
+            name="Modifiers",
+            items=MODIFIER_ITEMS,
+            default="NEW_OBJECT",
+            description="What is made developable when the object has modifiers shown in the viewport",
+        ),
     }
     for name in AUTOMATIC:
         defs["auto_" + name] = BoolProperty(
@@ -445,12 +416,13 @@ def set_quietly(owner, values):
         _APPLYING[0] = False
 
 
-def engine_values(owner, size=None, average_edge=None):
-    """dict for native.run from an object holding the settings. 'Shape May
-    Move' is the engine's max_move (a share of the bounding box's diagonal);
-    with size (the diagonal) and average_edge it is also the tolerance in
-    average edge lengths. With 'Limit in Edge Lengths' the tolerance is taken
-    as it is and there is no size limit."""
+def engine_values(owner):
+    """dict for native.run from an object holding the settings. The move limit
+    goes to the engine once, in the unit the user set it in: 'Shape May Move'
+    as max_move (a share of the bounding box's diagonal, no limit in edge
+    lengths), or with 'Limit in Edge Lengths' the tolerance in average edge
+    lengths (no limit by size). The engine reports the limit it used
+    (stats["move_limit"], in the mesh's units)."""
     values = {}
     for name in ENGINE_PARAMETERS:
         value = getattr(owner, name)
@@ -464,10 +436,19 @@ def engine_values(owner, size=None, average_edge=None):
             values[name] = sentinel
     values["stop_relative_change"] = owner.stop_relative_change / 100.0
     values["developable_threshold"] = 10.0**owner.developable_threshold
-    values["max_move"] = 0.0 if owner.limit_in_edges else owner.move_limit / 100.0
-    if not owner.limit_in_edges and size is not None and average_edge:
-        values["tolerance"] = owner.move_limit / 100.0 * size / average_edge
+    if owner.limit_in_edges:
+        values["max_move"] = 0.0
+    else:
+        values["max_move"] = owner.move_limit / 100.0
+        values["tolerance"] = 0.0
     return values
+
+
+def move_limit_words(owner):
+    """The user's move limit in words ("1 %", "10 edge lengths"), "" for none."""
+    if owner.limit_in_edges:
+        return "%g edge lengths" % owner.tolerance if owner.tolerance > 0 else ""
+    return "%g %%" % owner.move_limit if owner.move_limit > 0 else ""
 
 
 # ---------------------------------------------------------------------------
@@ -480,111 +461,118 @@ class DEVELOPABLE_PG_settings(PropertyGroup):
 
 
 def _show_after_update(self, context):
-    from . import writeback
-
     obj = self.id_data
     if obj is not None and obj.type == "MESH":
         writeback.show_colours(obj, after=self.show_after)
 
 
 def _gauss_visible_update(self, context):
-    from . import gauss_image
-
     gauss_image.set_visible(self.id_data, self.show_gauss_image)
 
 
+def _share(name, text):
+    return FloatProperty(name=name, precision=4, subtype="FACTOR", description=text)
+
+
 class DEVELOPABLE_PG_result(PropertyGroup):
-    """The last run on this object (stored in the .blend)."""
+    """The last run on this object (stored in the .blend): the engine's
+    figures as it reported them, and the add-on's words for them."""
 
     has_result: BoolProperty(name="Has Result", default=False)
+    verdict: EnumProperty(
+        name="Verdict",
+        default="IMPROVED",
+        items=[
+            ("IMPROVED", "Improved", "The mesh is more developable and no figure got worse"),
+            ("GATHERED", "Improved, curvature on seams", "More vertices are flat; the curvature left gathered"),
+            ("CRUMPLED", "Flat, but crumpled", "Flat, but many flat vertices are facets, not one smooth bend"),
+            ("WORSE", "Worse", "A figure got worse: the key is left at 0"),
+            ("UNCHANGED", "Unchanged", "Nothing changed: nothing better was found"),
+            ("DEVELOPABLE", "Already developable", "Nothing to do: the mesh was developable already"),
+        ],
+    )
+    message: StringProperty(name="Message", description="What the run means, in words")
+    engine_result: StringProperty(name="Engine says", description="The engine's own sentence about its result")
+    error: StringProperty(
+        name="Error", description="Why the last try on this object failed (empty when it ran); the figures are older"
+    )
+    job: StringProperty(name="Job", description="The job the run used")
+    shape_source: StringProperty(name="Shape", description="Which shape was made developable")
+    interior_vertices: IntProperty(name="Inner vertices", description="Vertices not on the boundary")
     e_before: FloatProperty(
         name="Mean curvature before",
         precision=6,
         description="E_before: mean |angle defect| over interior vertices (rad)",
     )
     e_after: FloatProperty(
-        name="Mean curvature after", precision=6, description="E_after: mean |angle defect| after the deformation (rad)"
+        name="Mean curvature after", precision=6, description="E_after: mean |angle defect| after the run (rad)"
     )
-    max_before: FloatProperty(name="Max defect before", precision=6)
-    max_after: FloatProperty(name="Max defect after", precision=6)
+    max_before: FloatProperty(name="Largest curvature before", precision=6)
+    max_after: FloatProperty(name="Largest curvature after", precision=6)
     change_percent: FloatProperty(
         name="Change %", precision=2, description="\u0394E = 100 (E_after - E_before) / E_before"
     )
-    flat_before: FloatProperty(
-        name="Flat before",
-        precision=4,
-        subtype="FACTOR",
-        description="Share of interior vertices with |angle defect| < " "1e-3 rad before the run",
+    flat_threshold: FloatProperty(
+        name="Flat below",
+        precision=6,
+        description="The |angle defect| (rad) under which the engine calls a vertex flat",
     )
-    flat_after: FloatProperty(
-        name="Flat after", precision=4, subtype="FACTOR", description="The same share after the run"
+    flat_before: _share("Flat before", "Share of interior vertices with |angle defect| under the flat threshold")
+    flat_after: _share("Flat after", "The same share after the run")
+    ruled_before: _share(
+        "Flat and ruled before",
+        "Share of interior vertices that are flat and whose faces bend about one axis (not crumpled into facets)",
     )
-    ruled_before: FloatProperty(
-        name="Flat and ruled before",
-        precision=4,
-        subtype="FACTOR",
-        description="Share of interior vertices that are flat and whose faces bend about one axis "
-        "(not crumpled into facets) before the run",
-    )
-    ruled_after: FloatProperty(
-        name="Flat and ruled after", precision=4, subtype="FACTOR", description="The same share after the run"
-    )
+    ruled_after: _share("Flat and ruled after", "The same share after the run")
+    crumpled_before: _share("Crumpled before", "Share of interior vertices flat but not ruled: a zigzag of facets")
+    crumpled_after: _share("Crumpled after", "The same share after the run")
     faces_turned: IntProperty(
         name="Faces turned over",
-        description="Faces whose normal turned by more than 90 degrees "
-        "(not counting faces already turned in the input)",
-    )
-    move_percent: FloatProperty(
-        name="Largest move %",
-        precision=3,
-        description="Largest distance a vertex moved, in % of the "
-        "object's size (bounding-box diagonal, world space)",
+        description="Faces whose normal turned by more than 90 degrees (not counting faces already turned "
+        "in the input)",
     )
     size: FloatProperty(name="Size", precision=5, description="Bounding-box diagonal of the input (world space)")
+    largest_move: FloatProperty(
+        name="Largest move made", precision=5, description="The farthest any vertex moved (world units)"
+    )
+    move_percent: FloatProperty(
+        name="Largest move %", precision=3, description="The largest move made, in % of the object's size"
+    )
+    move_limit: FloatProperty(
+        name="Move limit used",
+        precision=5,
+        description="The farthest a vertex was allowed to move, as the engine applied it (world units; 0: none)",
+    )
     time_ms: FloatProperty(name="Time (ms)", precision=1, description="t_T: total engine time")
     time_decompose_ms: FloatProperty(name="t_D (ms)", precision=1)
     time_iterate_ms: FloatProperty(name="t_I (ms)", precision=1)
     iterations: IntProperty(name="Iterations")
-    polish_iterations: IntProperty(
-        name="Polish steps", description="Steps of the angle polish kept after the deformation"
-    )
+    polish_iterations: IntProperty(name="Polish steps", description="Steps of the angle polish kept")
     result_origin: StringProperty(
         name="Made by", description="Which of the engine's methods made the result (native.ORIGIN_NAMES)"
     )
-    stop_reason: StringProperty(name="Stopped")
-    max_move: FloatProperty(
-        name="Largest move", precision=5, description="Largest distance a vertex moved (world units)"
-    )
+    stop_reason: StringProperty(name="Stopped", description="Why the engine's iteration stopped")
     average_edge: FloatProperty(name="AE", precision=5, description="Average edge length")
-    max_move_ae: FloatProperty(name="Largest move / AE", precision=3)
     patches: IntProperty(name="Pieces")
     curves: IntProperty(name="Curves")
     pinned: IntProperty(name="Pinned vertices")
-    verdict: EnumProperty(
-        name="Verdict",
-        default="IMPROVED",
-        items=[
-            ("IMPROVED", "Improved", "The mesh is more developable and no figure got worse"),
-            ("WORSE", "Worse", "A figure got worse: the key is left at 0"),
-            ("UNCHANGED", "Unchanged", "Nothing changed: nothing better was found"),
-            ("DEVELOPABLE", "Already developable", "Nothing to do: the mesh was developable already"),
-        ],
+    unwelded: IntProperty(
+        name="Unwelded vertices", description="Boundary vertices lying on another boundary vertex (a seam never welded)"
     )
-    message: StringProperty(name="Message", description="What the run said, in words")
-    engine_result: StringProperty(name="Engine check", description="The engine's own result check, as it is")
     world_space: BoolProperty(
         name="World space", default=False, description="The object's scale was taken into account"
     )
     colour_scale: FloatProperty(
         name="Colour scale",
         precision=6,
-        description="Angle defect (rad) shown as full red (+) / full blue (-) in both colour " "attributes; white is 0",
+        description="Angle defect (rad) shown as full red (+) / full blue (-) in both colour attributes; "
+        "white is 0. Never below the engine's flat threshold, so a developable mesh is white",
     )
     show_after: BoolProperty(
         name="Show After",
         default=True,
         update=_show_after_update,
-        description="Show the defect colours after (on) or before (off) the deformation",
+        description="Show the defect colours after (on) or before (off) the run",
     )
     show_gauss_image: BoolProperty(
         name="Show Gauss Image",

@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Writes one engine result into the object: the "Developable" shape key, the
-defect attributes and colours, the patch ids and the run's figures.
+defect attributes and colours, the patch ids and the run's record.
 
 Called only after the engine returned OK, with the object in Object mode.
 The base mesh (mesh.vertices co and the polygons) is never changed."""
 
 import numpy as np
 
-from . import native
+from .core import native
+from .core.colours import colour_scale, defect_colours
 
 SHAPE_KEY = "Developable"
 BASIS = "Basis"
@@ -16,39 +17,6 @@ COLOUR_AFTER = "Defect After"
 DEFECT_BEFORE = "defect_before"
 DEFECT_AFTER = "defect_after"
 PATCH_ID = "patch_id"
-
-# Colour of vertices where the angle defect is not defined (boundary).
-BOUNDARY_COLOUR = (0.55, 0.55, 0.55, 1.0)
-
-
-def colour_scale(defect_before, defect_after, interior):
-    """One scale for both colour maps: the 95th percentile of |defect| over the
-    interior vertices of both states, so the maps compare directly."""
-    d = np.concatenate([np.abs(defect_before[interior]), np.abs(defect_after[interior])])
-    d = d[np.isfinite(d)]
-    if d.size == 0:
-        return 1e-6
-    scale = float(np.percentile(d, 95.0))
-    if not scale > 0.0:
-        scale = float(d.max()) if d.max() > 0 else 1e-6
-    return scale
-
-
-def defect_colours(defect, interior, scale):
-    """(n, 4) float32 linear RGBA: blue (-scale) .. white (0) .. red (+scale),
-    grey where the defect is undefined."""
-    t = np.clip(np.nan_to_num(defect / scale), -1.0, 1.0)
-    n = defect.shape[0]
-    rgba = np.ones((n, 4), dtype=np.float32)
-    pos = t > 0
-    neg = ~pos
-    # positive: white -> red; negative: white -> blue
-    rgba[pos, 1] = 1.0 - t[pos]
-    rgba[pos, 2] = 1.0 - t[pos]
-    rgba[neg, 0] = 1.0 + t[neg]
-    rgba[neg, 1] = 1.0 + t[neg]
-    rgba[~interior] = BOUNDARY_COLOUR
-    return rgba
 
 
 def write_shape_key(obj, positions, value=1.0):
@@ -84,7 +52,7 @@ def _attribute(mesh, name, data_type, domain):
 def write_attributes(mesh, result, tri_polygon, n_polygons):
     """Raw defects, colours (one scale) and face patch ids. Returns the scale."""
     interior = result.interior
-    scale = colour_scale(result.defect_before, result.defect_after, interior)
+    scale = colour_scale(result.defect_before, result.defect_after, interior, result.stats["flat_threshold"])
     for name, values in ((DEFECT_BEFORE, result.defect_before), (DEFECT_AFTER, result.defect_after)):
         _attribute(mesh, name, "FLOAT", "POINT").data.foreach_set(
             "value", np.ascontiguousarray(values, dtype=np.float32)
@@ -134,52 +102,81 @@ def use_attribute_shading(context):
                     space.shading.color_type = "VERTEX"
 
 
-def store_stats(obj, result, scale, pinned_count, figures, verdict, message, engine_result, world_space):
+def store_record(obj, result, figures, verdict, scale):
+    """The record of a run (object.developable) from the engine's stats,
+    the add-on's figures (a dict: size, move_percent, pinned, unwelded,
+    world_space, job, shape_source) and the Verdict (core/verdict.py)."""
     s = result.stats
     rec = obj.developable
     rec.has_result = True
+    rec.error = ""
+    rec.verdict = verdict.kind
+    rec.message = verdict.text[:1000]
+    rec.engine_result = verdict.engine[:1000]
+    rec.interior_vertices = int(s["interior_vertices"])
     rec.e_before = s["mean_defect_before"]
     rec.e_after = s["mean_defect_after"]
     rec.max_before = s["max_defect_before"]
     rec.max_after = s["max_defect_after"]
     rec.change_percent = s["change_percent"]
+    rec.flat_threshold = s["flat_threshold"]
+    rec.flat_before = s["flat_share_before"]
+    rec.flat_after = s["flat_share_after"]
+    rec.ruled_before = s["ruled_share_before"]
+    rec.ruled_after = s["ruled_share_after"]
+    rec.crumpled_before = s["crumpled_share_before"]
+    rec.crumpled_after = s["crumpled_share_after"]
+    rec.faces_turned = int(s["faces_turned_over"])
+    rec.largest_move = s["max_vertex_move"]
+    rec.move_limit = s["move_limit"]
     rec.time_ms = s["time_total_ms"]
     rec.time_decompose_ms = s["time_decompose_ms"]
     rec.time_iterate_ms = s["time_iterate_ms"]
     rec.iterations = s["iterations"]
-    rec.polish_iterations = s.get("polish_iterations", 0)
-    rec.result_origin = native.ORIGIN_NAMES.get(s.get("result_origin", 0), "input")
-    rec.ruled_before = s["ruled_share_before"]
-    rec.ruled_after = s["ruled_share_after"]
+    rec.polish_iterations = s["polish_iterations"]
+    rec.result_origin = native.ORIGIN_NAMES.get(s["result_origin"], "input")
     rec.stop_reason = native.STOP_REASONS.get(s["stop_reason"], str(s["stop_reason"]))
-    rec.max_move = s["max_vertex_move"]
     rec.average_edge = s["average_edge_length"]
-    ae = s["average_edge_length"]
-    rec.max_move_ae = s["max_vertex_move"] / ae if ae > 0 else 0.0
     rec.patches = int(s["patches"])
     rec.curves = int(s["curves"])
-    rec.pinned = int(pinned_count)
     rec.colour_scale = scale
-    rec.flat_before = figures["flat_before"]
-    rec.flat_after = figures["flat_after"]
-    rec.faces_turned = figures["faces_turned"]
-    rec.move_percent = figures["move_percent"]
-    rec.size = figures["size"]
-    rec.verdict = verdict
-    rec.message = message[:1000]
-    rec.engine_result = engine_result
-    rec.world_space = world_space
+    for name in ("size", "move_percent", "pinned", "unwelded", "world_space", "job", "shape_source"):
+        setattr(rec, name, figures[name])
+
+
+def store_nothing_to_do(obj, text, figures):
+    """The record of a mesh with nothing for the engine to do (no interior
+    vertex: every vertex on the boundary): no key, no colours."""
+    rec = obj.developable
+    rec.has_result = True
+    rec.error = ""
+    rec.verdict = "DEVELOPABLE"
+    rec.message = text[:1000]
+    rec.engine_result = ""
+    rec.interior_vertices = 0
+    for name in ("flat_before", "flat_after", "ruled_before", "ruled_after", "crumpled_before", "crumpled_after"):
+        setattr(rec, name, 0.0)
+    for name in ("e_before", "e_after", "max_before", "max_after", "change_percent", "largest_move", "move_limit"):
+        setattr(rec, name, 0.0)
+    rec.faces_turned = rec.iterations = rec.polish_iterations = rec.patches = rec.curves = 0
+    rec.time_ms = 0.0
+    rec.result_origin, rec.stop_reason = "input", ""
+    for name in ("size", "move_percent", "pinned", "unwelded", "world_space", "job", "shape_source"):
+        setattr(rec, name, figures[name])
 
 
 def write_result(obj, key_positions, tri_polygon, n_polygons, result, key_value):
     """The key, the attributes and the colours (the object must be in Object
-    mode). Returns the colour scale; the figures are stored by store_stats."""
+    mode). The colours shown match the key: After at 1, Before when the key
+    is left at 0 (the shape on screen is then the input). Returns the colour
+    scale; the record is written by store_record."""
     mesh = obj.data
     write_shape_key(obj, key_positions, key_value)
     scale = write_attributes(mesh, result, tri_polygon, n_polygons)
+    after = key_value > 0.0
     rec = obj.developable
-    if not rec.show_after:
-        rec.show_after = True  # the update callback shows "after"
+    if rec.show_after != after:
+        rec.show_after = after  # the update callback shows them
     else:
-        show_colours(obj, after=True)
+        show_colours(obj, after=after)
     return scale

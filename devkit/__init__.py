@@ -1,8 +1,8 @@
 """Development kit shared by tests/ and bench/ (never shipped in the add-on).
 
   paths     the repository, ../shared beside it, the build folder
-  binding   addon/native.py, the one ctypes binding of the C ABI, imported
-            without the add-on package (which needs bpy)
+  binding   addon/core/native.py, the one ctypes binding of the C ABI (the
+            add-on's bpy-free core, imported as the package addon.core)
   meshes    generated meshes: exact developable surfaces, noisy ones, the
             paper's models, the run command's demo meshes, benchmark families
   families  seeded random developables of issue 11 with their noise-free twins

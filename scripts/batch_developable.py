@@ -202,7 +202,7 @@ def render_before_after(ob, prefix, addon):
         rec.show_after = after
         e = rec.e_after if after else rec.e_before
         txt_data.body = (
-            "%s: mean |angle defect| E = %.3g rad\n"
+            "%s: mean curvature (angle defect) E = %.3g rad\n"
             "colour: blue -%.3g .. white 0 .. red +%.3g rad (same scale both)"
             % (label.capitalize(), e, rec.colour_scale, rec.colour_scale)
         )
@@ -373,7 +373,8 @@ def main():
                 "change_percent",
                 "time_ms",
                 "iterations",
-                "max_move",
+                "largest_move",
+                "move_limit",
                 "patches",
                 "curves",
                 "pinned",
@@ -381,6 +382,9 @@ def main():
                 "stop_reason",
                 "flat_before",
                 "flat_after",
+                "ruled_before",
+                "ruled_after",
+                "crumpled_after",
                 "move_percent",
                 "faces_turned",
                 "verdict",

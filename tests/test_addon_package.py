@@ -1,5 +1,6 @@
 """The add-on as shipped: manifest rules, the zip's contents, its native
 dependencies, installing and enabling it in Blender."""
+import ast
 import re
 import subprocess
 import sys
@@ -169,18 +170,75 @@ def test_bl_info_matches_the_manifest(manifest):
 
 
 def test_package_uses_relative_imports_only():
-    for path in (REPO / "addon").glob("*.py"):
+    for path in (REPO / "addon").rglob("*.py"):
         text = path.read_text()
         assert not re.search(r"^\s*(from|import)\s+(addon|developable_mesh)\b", text, re.M), path
         for banned in ("import bgl", "face_maps", "calc_normals(", "calc_normals_split"):
             assert banned not in text, (path, banned)
 
 
+def relative_imports(path):
+    """The add-on's modules a module imports (from . import a, from .b import c,
+    from .core import d, from .core.e import f), as dotted names in the package."""
+    here = path.parent.relative_to(REPO / "addon").parts
+    found = set()
+    for dots, module, names in re.findall(r"^\s*from (\.+)([\w.]*) import \(?([\w, \n]+)\)?", path.read_text(), re.M):
+        base = list(here[: len(here) - (len(dots) - 1)]) if len(dots) > 1 else list(here)
+        parts = base + (module.split(".") if module else [])
+        if module:
+            found.add(".".join(parts))
+        else:
+            found |= {".".join(parts + [n.strip()]) for n in names.split(",") if n.strip()}
+    return {name for name in found if (REPO / "addon" / (name.replace(".", "/") + ".py")).exists()}
+
+
+def module_order():
+    """CORE_MODULES + BLENDER_MODULES of the package's __init__: its modules in import order."""
+    tree = ast.parse((REPO / "addon" / "__init__.py").read_text())
+    lists = {
+        node.targets[0].id: ast.literal_eval(node.value)
+        for node in tree.body
+        if isinstance(node, ast.Assign) and getattr(node.targets[0], "id", "") in ("CORE_MODULES", "BLENDER_MODULES")
+    }
+    return list(lists["CORE_MODULES"]) + list(lists["BLENDER_MODULES"])
+
+
 def imported_modules():
-    """The modules the add-on's __init__.py imports (from . import ...)."""
-    text = (REPO / "addon" / "__init__.py").read_text()
-    names = re.findall(r"^from \. import ([\w, ]+)", text, re.M)
-    return {n.strip() for line in names for n in line.split(",")}
+    """Every module of the package reached from its __init__'s lists, with what they import."""
+    todo = set(module_order())
+    seen = set()
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        todo |= relative_imports(REPO / "addon" / (name.replace(".", "/") + ".py"))
+    return seen
+
+
+def test_core_imports_no_bpy_and_nothing_outside_core():
+    """addon/core is the bpy-free part: it imports neither bpy nor the Blender
+    modules, and the package imports nothing at module level (so that
+    `from addon.core import native` works in any Python)."""
+    for path in (REPO / "addon" / "core").glob("*.py"):
+        text = path.read_text()
+        assert not re.search(r"^\s*(import|from)\s+(bpy|bmesh|mathutils|blf)\b", text, re.M), path
+        assert all(name.startswith("core.") for name in relative_imports(path)), (path, relative_imports(path))
+    code = (
+        "import sys; sys.path.insert(0, %r)\n"
+        "from addon.core import native, checks, verdict, text, estimate, jobs, presets, colours\n"
+        "assert 'bpy' not in sys.modules\n" % str(REPO)
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_no_import_circle():
+    """Each module imports only modules listed before it in __init__'s order."""
+    order = module_order()
+    assert sorted(order) == sorted(imported_modules()), (order, imported_modules())
+    for i, name in enumerate(order):
+        imports = relative_imports(REPO / "addon" / (name.replace(".", "/") + ".py"))
+        assert imports <= set(order[:i]), (name, imports - set(order[:i]))
 
 
 def needed_libraries(library):
@@ -191,15 +249,15 @@ def needed_libraries(library):
 
 
 def test_zip_holds_the_addon_and_nothing_else(addon_zip):
-    """One folder: the package's modules (each one __init__.py imports), the
+    """One folder: the package's modules (each reached from __init__.py), the
     manifest, the licence and the engine; no test or demo code."""
     with zipfile.ZipFile(addon_zip) as z:
         names = [n for n in z.namelist() if not n.endswith("/")]
     assert {n.split("/")[0] for n in names} == {MODULE}, names
     shipped = {n.split("/", 1)[1] for n in names}
-    modules = {n[:-3] for n in shipped if n.endswith(".py")}
-    assert modules == imported_modules() | {"__init__"}, modules
-    others = shipped - {m + ".py" for m in modules}
+    modules = {n[:-3].replace("/", ".") for n in shipped if n.endswith(".py")}
+    assert modules == imported_modules() | {"__init__", "core.__init__"}, modules
+    others = shipped - {m.replace(".", "/") + ".py" for m in modules}
     assert others <= {"blender_manifest.toml", "LICENSE", "libdevelopable.so"}, others
     assert {"blender_manifest.toml", "libdevelopable.so"} <= others
 
@@ -237,15 +295,18 @@ def test_zip_installs_and_enables(blender_env, installed_addon_dir):
     assert r["version"]
     assert len(r["panels"]) == 3
     # max_move is set from 'Shape May Move' (properties.DERIVED_PARAMETERS), whose
-    # default is the General job's 1 % of the size, the engine's default; every
-    # other field is an operator property.
-    derived = {"max_move"}
+    # default is the General job's 1 % of the size, the engine's default; the
+    # move limit goes once, in that unit, so the tolerance in edge lengths is 0
+    # (no limit) unless 'Limit in Edge Lengths' is ticked. Every other field is
+    # an operator property.
+    derived = {"max_move", "tolerance"}
     for name in r["param_names"]:
         assert name in r["operator_properties"] or name in derived, name
     # The operator's defaults are the engine's (grid_resolution 0 = "the engine's default").
     props, engine = r["property_defaults"], r["defaults"]
     assert set(props) == set(engine)
     assert props["max_move"] == pytest.approx(0.01) == pytest.approx(engine["max_move"])
+    assert props["tolerance"] == 0.0
     for k in engine:
         if k in derived or (k == "grid_resolution" and props[k] == 0):
             continue
@@ -261,11 +322,9 @@ def _header_struct(name):
 
 def test_ctypes_binding_matches_the_header():
     import ctypes
-    import importlib.util
 
-    spec = importlib.util.spec_from_file_location("dev_native", REPO / "addon" / "native.py")
-    native = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(native)
+    from addon.core import native
+
     ctype = {"int32_t": ctypes.c_int32, "int64_t": ctypes.c_int64, "double": ctypes.c_double, "uint8_t": ctypes.c_uint8}
     for struct in ("dev_params", "dev_stats"):
         header = [(n, ctypes.c_char * int(size) if t == "char" else ctype[t]) for t, n, size in _header_struct(struct)]

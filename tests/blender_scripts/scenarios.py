@@ -46,7 +46,7 @@ def sub(name):
     return importlib.import_module(PKG.__name__ + "." + name)
 
 
-writeback, native, operators = sub("writeback"), sub("native"), sub("operators")
+writeback, native, operators = sub("writeback"), sub("core.native"), sub("operators")
 
 
 class EngineWatch:
@@ -248,7 +248,7 @@ def s_run():
             "scale": scale,
             "stats": {
                 k: getattr(rec, k)
-                for k in ("e_before", "e_after", "change_percent", "time_ms", "iterations", "max_move", "patches")
+                for k in ("e_before", "e_after", "change_percent", "time_ms", "iterations", "largest_move", "patches")
             },
             "key_value": ob.data.shape_keys.key_blocks["Developable"].value,
             "moved": float(np.linalg.norm(key_coords(ob) - base, axis=1).max()),

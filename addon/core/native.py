@@ -5,8 +5,11 @@ No bpy here: this module can be imported and tested from any Python with numpy.
 
 The library is searched, in order:
   1. $DEVELOPABLE_LIBRARY (a path to the .so), when set;
-  2. inside the add-on folder (where the packaged zip puts it);
+  2. inside the add-on's folder, the parent of this core/ folder (where the
+     packaged zip puts it);
   3. the repository's build/lib (development checkout: addon/ beside build/).
+
+From a checkout (the repository on sys.path): `from addon.core import native`.
 """
 
 import ctypes
@@ -94,7 +97,8 @@ else:
     LIBRARY_FILE = "libdevelopable.so"
 
 ENV_VAR = "DEVELOPABLE_LIBRARY"
-ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
+# The add-on package folder (this module is in its core/ subpackage).
+ADDON_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 class dev_params(ctypes.Structure):

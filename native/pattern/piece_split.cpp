@@ -127,13 +127,14 @@ std::vector<int> chord_edges(const Disc& d, int centre) {
     const double gap = std::abs(d.arc[v] - d.arc[b1]);
     return std::min(gap, d.perimeter - gap);
   };
-  int b2 = -1, widest = -1;
+  // The other end: the least chord length per border length cut off.
+  int b2 = -1;
+  double best = std::numeric_limits<double>::infinity();
   for (int v = 0; v < n; ++v) {
-    if (!d.border[v] || !std::isfinite(sp.dist[v]) || branch[v] == branch[b1]) continue;
-    if (along(v) >= sp.dist[b1] + sp.dist[v] && (b2 < 0 || sp.dist[v] < sp.dist[b2])) b2 = v;
-    if (widest < 0 || along(v) > along(widest)) widest = v;
+    if (!d.border[v] || !std::isfinite(sp.dist[v]) || branch[v] == branch[b1] || !(along(v) > 0.0)) continue;
+    const double ratio = (sp.dist[b1] + sp.dist[v]) / along(v);
+    if (ratio < best) best = ratio, b2 = v;
   }
-  if (b2 < 0) b2 = widest;
   if (b2 < 0) return {};
   std::vector<int> chord;
   for (int end : {b1, b2})

@@ -20,9 +20,9 @@ enum class SplitThrough {
 // border through one vertex back to its border. The piece is first opened
 // into a disc (choose_cuts, Holes::join); from the chosen vertex the chord
 // follows the shortest edge path to the nearest border vertex b1, and the
-// shortest one, leaving the vertex by another edge, to the nearest border
-// vertex b2 at least as far from b1 along the border as the chord is long
-// (else the farthest along the border), so that it cuts off more than a
+// shortest one, leaving the vertex by another edge, to the border vertex b2
+// of least chord length per length of border between b1 and b2 (the
+// shorter way round): a ratio cut, so that it cuts across rather than off a
 // sliver. It never runs inside a face group. Returns the faces (global ids)
 // of the two sides, each connected, or two empty lists when the piece has
 // no such chord (no inner vertex off a group, or not a surface).

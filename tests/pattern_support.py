@@ -2,7 +2,9 @@
 on the build's library, a PNG reader for rsvg-convert's output and
 geometric checks of an unfolding."""
 import pathlib
+import re
 import struct
+import xml.etree.ElementTree as ET
 import zlib
 
 import numpy as np
@@ -154,9 +156,11 @@ def holed_plate(seed=1, bent=False, points=1500):
     holes = []
     while len(holes) < rng.integers(1, 4):
         c, r = rng.uniform([0.3, 0.3], [w - 0.3, h - 0.3]), rng.uniform(0.08, 0.22)
-        if all(np.linalg.norm(c - c2) > r + r2 + 0.1 for c2, r2 in holes) and (c - r > 0.05).all() and (
-            c + r < [w - 0.05, h - 0.05]
-        ).all():
+        if (
+            all(np.linalg.norm(c - c2) > r + r2 + 0.1 for c2, r2 in holes)
+            and (c - r > 0.05).all()
+            and (c + r < [w - 0.05, h - 0.05]).all()
+        ):
             holes.append((c, r))
     spacing = np.sqrt(w * h / points)
     pts = [rng.uniform([0, 0], [w, h], (points, 2))]
@@ -192,3 +196,37 @@ def holed_plate(seed=1, bent=False, points=1500):
     else:
         pos = np.c_[p, np.zeros(len(p))]
     return pos, tri, len(holes)
+
+
+GLYPH_WIDTH = 0.8  # em per glyph, as native/pattern/pattern_labels.h counts it
+
+
+def label_boxes(svg_path):
+    """(x0, y0, x1, y1) of every text label of the SVG, mm: centred on its
+    point (the baseline is 0.35 em below it), GLYPH_WIDTH em per glyph, 1.2 em
+    high, the box around it turned by its rotate()."""
+    boxes = []
+    for node in ET.parse(svg_path).getroot().iter("{http://www.w3.org/2000/svg}text"):
+        if node.get("font-size") is None:
+            continue  # the scale bar's captions
+        size = float(node.get("font-size"))
+        x, y = float(node.get("x")), float(node.get("y")) - 0.35 * size
+        angle = 0.0
+        m = re.match(r"rotate\(([-0-9.e]+)", node.get("transform") or "")
+        if m:
+            angle = np.radians(float(m.group(1)))
+        half_w, half_h = 0.5 * GLYPH_WIDTH * size * len(node.text), 0.6 * size
+        c, s = abs(np.cos(angle)), abs(np.sin(angle))
+        hx, hy = c * half_w + s * half_h, s * half_w + c * half_h
+        boxes.append((x - hx, y - hy, x + hx, y + hy))
+    return boxes
+
+
+def strain_bound(positions, triangles):
+    """The strain a piece of these faces may keep when every inner vertex is
+    flat (docs/pattern.md): the larger of the default seam tolerance and the
+    sum of |angle defect| over its inner vertices / (2 pi)."""
+    from devkit import families
+
+    defect, inner = families.angle_defects(positions, triangles)
+    return max(0.0025, np.abs(defect[inner]).sum() / (2 * np.pi))

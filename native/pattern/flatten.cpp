@@ -104,7 +104,7 @@ std::vector<Vec2> greedy_layout(const LocalPiece& piece, const CornerVertices& v
   std::vector<int> queue{root};
   visited[root] = 1;
   for (size_t head = 0; head < queue.size(); ++head) {
-    if (head % kReportEvery == kReportEvery - 1) progress.report(0.1 * head / nf, "unfolding: laying out");
+    if (head % kReportEvery == kReportEvery - 1) progress.report(0.04 + 0.05 * head / nf, "unfolding: laying out");
     const int f = queue[head];
     for (int k = 0; k < 3; ++k) {
       const int e = edges.of_face_edge[3 * f + k];
@@ -409,12 +409,14 @@ std::optional<std::vector<Vec2>> flat_map(const Positions& positions, const Loca
                                           const Progress& progress, int* iterations) {
   const Frames fr = frames_of(positions, piece);
   if (!(fr.total_area > 0.0)) return std::nullopt;
+  progress.report(0.04, "unfolding: laying out");
   const auto keeps = [&](const std::vector<Vec2>& uv) {
     return map_is_valid(uv, t, fr) && largest_strain(uv, t.verts, fr) <= limit;
   };
   *iterations = 0;
   const std::vector<Vec2> greedy = greedy_layout(piece, t.verts, edges, is_cut, fr, progress);
   const double greedy_strain = largest_strain(greedy, t.verts, fr);
+  progress.report(0.09, "unfolding: checking");
   if (greedy_strain <= kAlreadyIsometric && keeps(greedy)) return greedy;
   Arap arap(fr, t.verts);
   const auto refined = [&](std::vector<Vec2> uv) -> std::optional<std::vector<Vec2>> {
@@ -493,10 +495,16 @@ double strain_limit(double seam_tolerance, const PieceDefects& defects) {
 
 bool flatten_piece(const Positions& positions, const LocalPiece& piece, const UnfoldOptions& options,
                    const Progress& progress, FlatPiece* out) {
+  const bool large = piece.tris.size() >= kReportEvery;
+  const auto step = [&](double at) {
+    if (large) progress.report(at, "unfolding: cutting");
+  };
   const EdgeTable edges = edge_table(piece.tris);
+  step(0.01);
   const std::vector<char> no_cuts(edges.keys.size(), 0);
   const PieceTopology uncut = piece_topology(piece, edges, no_cuts);
   const PieceDefects defects = piece_defects(positions, piece, uncut);
+  step(0.02);
   const double limit = strain_limit(options.seam_tolerance, defects);
   const bool has_holes = uncut.loops.size() >= 2;
   const std::vector<Holes> tries =
@@ -506,6 +514,7 @@ bool flatten_piece(const Positions& positions, const LocalPiece& piece, const Un
     if (!choose_cuts(positions, piece, edges, holes, is_cut)) return false;
     PieceTopology t = piece_topology(piece, edges, is_cut);
     if (!t.flattenable()) continue;
+    step(0.03);
     int iterations = 0;
     const auto uv = flat_map(positions, piece, edges, is_cut, t, options, defects.flat(), limit, progress, &iterations);
     if (!uv) {

@@ -91,15 +91,18 @@ int chord_centre(const Positions& positions, const LocalPiece& piece, const Disc
   if (through == SplitThrough::largest_defect) {
     std::vector<double> score = inner_defects(positions, piece, d);
     if (std::any_of(score.begin(), score.end(), [](double x) { return x >= kFlatDefect; })) {
-      // |defect| times the distance from the border: a central vertex of
-      // large curvature, not one the border nearly reaches.
+      // Among the vertices that are not flat, |defect| times the distance
+      // from the border: a central one of large curvature, not one the
+      // border nearly reaches.
       std::vector<int> border;
       for (int v = 0; v < d.t.verts.count; ++v)
         if (d.border[v]) border.push_back(v);
       const ShortestPaths from_border = dijkstra(d.g, border, {});
       int worst = -1;
       for (int v = 0; v < d.t.verts.count; ++v) {
-        if (d.border[v] || d.g.offsets[v + 1] == d.g.offsets[v] || !std::isfinite(from_border.dist[v])) continue;
+        if (d.border[v] || d.g.offsets[v + 1] == d.g.offsets[v] || !std::isfinite(from_border.dist[v]) ||
+            score[v] < kFlatDefect)
+          continue;
         score[v] *= from_border.dist[v];
         if (worst < 0 || score[v] > score[worst]) worst = v;
       }

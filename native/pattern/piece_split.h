@@ -12,7 +12,7 @@ namespace developable::unfolding {
 
 // The vertex a chord runs through.
 enum class SplitThrough {
-  largest_defect,  // of largest |angle defect| x distance from the border, if some is not flat; else the middle
+  largest_defect,  // not flat, of largest |angle defect| x distance from the border; if all are flat, the middle
   middle,          // halfway along the piece's longest shortest path
 };
 

@@ -147,6 +147,7 @@ UnfoldResult unfold(const Positions& positions, const Triangles& triangles, cons
   std::vector<std::array<int, 3>> all_tris(nf);
   for (Eigen::Index f = 0; f < nf; ++f) all_tris[f] = {triangles(f, 0), triangles(f, 1), triangles(f, 2)};
   const EdgeTable mesh_edges = edge_table(all_tris);
+  progress.report(0.0, "unfolding");
 
   UnfoldResult result;
   result.corners.setZero(3 * nf, 2);
@@ -183,6 +184,7 @@ UnfoldResult unfold(const Positions& positions, const Triangles& triangles, cons
   std::sort(cut_keys.begin(), cut_keys.end());
   progress.report(0.9, "unfolding: seams");
   result.seams = seam_chains(positions, triangles, patch_ids, mesh_edges, cut_keys, result);
+  progress.report(0.95, "unfolding: outlines");
   smooth_outlines(triangles, result.seams, result);
   return result;
 }

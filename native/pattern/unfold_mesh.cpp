@@ -14,24 +14,55 @@ uint64_t edge_key(int a, int b) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
 }
 
+namespace {
+
+// The face-edges (3 f + k) in the order of their edge keys, ties in the
+// order of the face-edges: a counting sort by the lower vertex, then by the
+// upper one within each vertex's few, when the vertex ids span no more than
+// a few times the face-edges; else a comparison sort (the same order).
+std::vector<int> face_edges_by_key(const std::vector<std::array<int, 3>>& tris) {
+  const size_t n = tris.size() * 3;
+  const auto lower = [&](size_t fe) { return std::min(tris[fe / 3][fe % 3], tris[fe / 3][(fe % 3 + 1) % 3]); };
+  const auto key = [&](size_t fe) { return edge_key(tris[fe / 3][fe % 3], tris[fe / 3][(fe % 3 + 1) % 3]); };
+  int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
+  for (const auto& t : tris)
+    for (int v : t) lo = std::min(lo, v), hi = std::max(hi, v);
+  std::vector<int> order(n);
+  const size_t range = n == 0 ? 0 : static_cast<size_t>(hi - lo) + 1;
+  if (range > 4 * n + 1024) {
+    for (size_t fe = 0; fe < n; ++fe) order[fe] = static_cast<int>(fe);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+    return order;
+  }
+  std::vector<int> start(range + 1, 0);
+  for (size_t fe = 0; fe < n; ++fe) ++start[lower(fe) - lo + 1];
+  for (size_t v = 0; v < range; ++v) start[v + 1] += start[v];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (size_t fe = 0; fe < n; ++fe) order[fill[lower(fe) - lo]++] = static_cast<int>(fe);
+  for (size_t v = 0; v < range; ++v)  // insertion sort by key within the bucket: stable
+    for (int i = start[v] + 1; i < start[v + 1]; ++i)
+      for (int j = i; j > start[v] && key(order[j - 1]) > key(order[j]); --j) std::swap(order[j - 1], order[j]);
+  return order;
+}
+
+}  // namespace
+
 EdgeTable edge_table(const std::vector<std::array<int, 3>>& tris) {
   const size_t n = tris.size() * 3;
-  std::vector<std::pair<uint64_t, int>> half(n);
-  for (size_t f = 0; f < tris.size(); ++f)
-    for (int k = 0; k < 3; ++k)
-      half[3 * f + k] = {edge_key(tris[f][k], tris[f][(k + 1) % 3]), static_cast<int>(3 * f + k)};
-  std::sort(half.begin(), half.end());
+  const std::vector<int> order = face_edges_by_key(tris);
+  const auto key = [&](int fe) { return edge_key(tris[fe / 3][fe % 3], tris[fe / 3][(fe % 3 + 1) % 3]); };
   EdgeTable table;
   table.of_face_edge.assign(n, -1);
   for (size_t i = 0; i < n;) {
     size_t j = i;
+    const uint64_t k = key(order[i]);
     std::array<int, 2> uses{-1, -1};
-    while (j < n && half[j].first == half[i].first) {
-      if (j - i < 2) uses[j - i] = half[j].second;
-      table.of_face_edge[half[j].second] = static_cast<int>(table.keys.size());
+    while (j < n && key(order[j]) == k) {
+      if (j - i < 2) uses[j - i] = order[j];
+      table.of_face_edge[order[j]] = static_cast<int>(table.keys.size());
       ++j;
     }
-    table.keys.push_back(half[i].first);
+    table.keys.push_back(k);
     table.uses.push_back(uses);
     i = j;
   }

@@ -222,11 +222,24 @@ def label_boxes(svg_path):
     return boxes
 
 
-def strain_bound(positions, triangles):
-    """The strain a piece of these faces may keep when every inner vertex is
-    flat (docs/pattern.md): the larger of the default seam tolerance and the
-    sum of |angle defect| over its inner vertices / (2 pi)."""
+def nearly_developable(positions, triangles, tolerance=0.0025):
+    """Whether the inner vertices that are not flat (|defect| >= 1e-3) of a
+    piece of these faces need no more strain than the tolerance together
+    (their sum of |defect| / (2 pi)): every vertex flat, or nearly."""
     from devkit import families
 
     defect, inner = families.angle_defects(positions, triangles)
-    return max(0.0025, np.abs(defect[inner]).sum() / (2 * np.pi))
+    d = np.abs(defect[inner])
+    return d[d >= 1e-3].sum() / (2 * np.pi) <= tolerance
+
+
+def strain_bound(positions, triangles, tolerance=0.0025):
+    """The strain a piece of these faces may keep (docs/pattern.md, the rule):
+    when it is nearly developable, the larger of the tolerance and the sum of
+    |defect| over its inner vertices / (2 pi); else the tolerance."""
+    from devkit import families
+
+    if not nearly_developable(positions, triangles, tolerance):
+        return tolerance
+    defect, inner = families.angle_defects(positions, triangles)
+    return max(tolerance, np.abs(defect[inner]).sum() / (2 * np.pi))

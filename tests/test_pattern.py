@@ -17,6 +17,7 @@ from pattern_support import (
     holed_plate,
     label_boxes,
     load_native,
+    nearly_developable,
     overlapping_triangles,
     read_png,
     signed_areas,
@@ -351,15 +352,16 @@ def polygon_area(polygon):
     return 0.5 * (x * np.roll(y, -1) - np.roll(x, -1) * y).sum()
 
 
-def self_crossings(polygon):
-    """Pairs of non-adjacent edges of the closed polygon that cross properly."""
+def self_crossings(polygon, tolerance=1e-3):
+    """Pairs of non-adjacent edges of the closed polygon that cross properly: each edge's ends more
+    than `tolerance` (mm; the SVG rounds to 1e-4) on either side of the other's line."""
     a, b = polygon, np.roll(polygon, -1, axis=0)
     e = b - a
 
     def side(p, q, r):
-        return np.sign(
-            (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
-        )
+        cross = (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+        distance = cross / np.maximum(np.linalg.norm(q - p, axis=-1), 1e-300)
+        return np.where(np.abs(distance) > tolerance, np.sign(distance), 0)
 
     A, B = a[:, None], b[:, None]
     C, D = a[None], b[None]
@@ -523,9 +525,9 @@ FAMILY_CASES = [
 @pytest.mark.parametrize("family,seed", FAMILY_CASES)
 def test_noisy_developables_unfold_into_their_patches(native, family, seed):
     # A noisy developable of any triangulation after the engine: each patch
-    # whose vertices are all flat is one piece, its strain within the stated
-    # bound (largest of the tolerance and sum |defect| / 2 pi over its inner
-    # vertices, measured here from the mesh).
+    # that is (nearly) developable is one piece, its strain within the stated
+    # bound (strain_bound: the rule of docs/pattern.md measured here from the
+    # mesh).
     mesh = families.random_case(family, seed, faces=(800, 3000))
     result = native.run(mesh.positions, mesh.triangles)
     tri = mesh.triangles
@@ -533,9 +535,8 @@ def test_noisy_developables_unfold_into_their_patches(native, family, seed):
     strain = edge_strain(result.positions, tri, pattern.corner_uvs).max(axis=1)
     for patch in np.unique(result.patch_ids):
         faces = result.patch_ids == patch
-        defect, inner = families.angle_defects(result.positions, tri[faces])
-        if (np.abs(defect[inner]) >= 1e-3).any():
-            continue  # not developable by the engine's measure: the tolerance decides
+        if not nearly_developable(result.positions, tri[faces]):
+            continue  # the tolerance decides
         assert len(np.unique(pattern.piece_ids[faces])) == 1, (family, seed, mesh.triangulation, patch)
         assert strain[faces].max() <= strain_bound(result.positions, tri[faces]) + 1e-12
     assert flat_patches(result.positions, tri, result.patch_ids) or family == "cone_band"
@@ -555,20 +556,17 @@ def test_bent_sheet_is_one_piece(native):
 @pytest.mark.parametrize("seed", [4, 5, 6, 7])
 def test_noisy_duct_is_one_piece(native, seed):
     # A lofted square-to-round transition with 2 % noise, after the engine: one
-    # piece (cut once across) when every vertex came back flat, strain within
-    # the bound; otherwise (the engine left a few vertices at 1-3e-3 rad on
-    # some seeds) a chord through each of those at most. As it is (not
-    # developable) it needs tens of pieces.
+    # piece (cut once across) when its vertices that are not flat (the engine
+    # leaves a few at 1-3e-3 rad on some seeds) need no more strain than the
+    # tolerance together, within the bound; as it is (not developable) it
+    # needs tens of pieces.
     pos, tri = square_to_round(seed=seed)
     result = native.run(pos, tri)
     pattern = native.unfold(result.positions, tri, result.patch_ids, params={"layout": 0})
-    defect, inner = families.angle_defects(result.positions, tri)
-    curved = int((np.abs(defect[inner]) >= 1e-3).sum())
-    if curved == 0:
-        assert pattern.stats["pieces"] == 1 and pattern.stats["cut_edges"] > 0
-        assert pattern.stats["max_strain"] <= strain_bound(result.positions, tri)
-    else:
-        assert pattern.stats["pieces"] <= 1 + curved
+    assert nearly_developable(result.positions, tri)
+    bound = strain_bound(result.positions, tri)
+    assert pattern.stats["pieces"] == 1 and pattern.stats["cut_edges"] > 0
+    assert pattern.stats["max_strain"] <= bound
     assert native.unfold(pos, tri, params={"layout": 0}).stats["pieces"] > 5
 
 

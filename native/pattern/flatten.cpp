@@ -459,6 +459,40 @@ void outer_loop_first(std::vector<std::vector<int>>& loops, const std::vector<Ve
   loops = std::move(sorted);
 }
 
+// Darts: a slit along the shortest interior edge path from each cone vertex
+// that is not flat (its angles sum under 2 pi - kFlatDefect) to the border,
+// so that it opens there; at most kMaxDarts of them, the largest defect
+// first. False (is_cut then undefined) when a vertex that is not flat is a
+// saddle (a slit ending there would overlap itself), or there are too many.
+constexpr int kMaxDarts = 8;
+
+bool cut_darts(const Positions& positions, const LocalPiece& piece, const EdgeTable& edges, const PieceTopology& uncut,
+               const PieceDefects& defects, std::vector<char>& is_cut) {
+  std::vector<int> corner_of(uncut.verts.count, -1);
+  for (size_t c = 0; c < uncut.verts.of_corner.size(); ++c)
+    if (corner_of[uncut.verts.of_corner[c]] < 0) corner_of[uncut.verts.of_corner[c]] = static_cast<int>(c);
+  std::vector<int> tips;
+  for (int v = 0; v < uncut.verts.count; ++v) {
+    if (std::abs(defects.of_vertex[v]) < kFlatDefect) continue;
+    if (defects.of_vertex[v] < 0.0) return false;
+    tips.push_back(v);
+  }
+  if (tips.empty() || tips.size() > static_cast<size_t>(kMaxDarts)) return false;
+  std::sort(tips.begin(), tips.end(), [&](int a, int b) { return defects.of_vertex[a] > defects.of_vertex[b]; });
+  for (int tip : tips) {
+    const PieceTopology t = piece_topology(piece, edges, is_cut);
+    std::vector<char> border(t.verts.count, 0);
+    for (const auto& loop : t.loops)
+      for (int fe : loop) border[t.verts.of_corner[fe]] = 1;
+    const int v = t.verts.of_corner[corner_of[tip]];
+    if (border[v]) continue;  // on a cut already
+    const ShortestPaths sp = dijkstra(vertex_graph(positions, piece, edges, t.verts, is_cut), {v}, border);
+    if (sp.reached < 0) return false;
+    for (int w = sp.reached; sp.prev_edge[w] >= 0; w = sp.prev_vertex[w]) is_cut[sp.prev_edge[w]] = 1;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool PieceDefects::flat() const { return largest < kFlatDefect; }
@@ -482,6 +516,7 @@ PieceDefects piece_defects(const Positions& positions, const LocalPiece& piece, 
     if (border[v]) continue;
     d.of_vertex[v] = kTwoPi - angle[v];
     d.sum += std::abs(d.of_vertex[v]);
+    if (std::abs(d.of_vertex[v]) >= kFlatDefect) d.curved_sum += std::abs(d.of_vertex[v]);
     if (std::abs(d.of_vertex[v]) > d.largest || d.largest_vertex < 0)
       d.largest = std::abs(d.of_vertex[v]), d.largest_vertex = v;
   }
@@ -490,7 +525,8 @@ PieceDefects piece_defects(const Positions& positions, const LocalPiece& piece, 
 
 double strain_limit(double seam_tolerance, const PieceDefects& defects) {
   if (!(seam_tolerance > 0.0)) return std::numeric_limits<double>::infinity();
-  return defects.flat() ? std::max(seam_tolerance, defects.sum / kTwoPi) : seam_tolerance;
+  if (defects.curved_sum / kTwoPi > seam_tolerance) return seam_tolerance;
+  return std::max(seam_tolerance, defects.sum / kTwoPi);
 }
 
 bool flatten_piece(const Positions& positions, const LocalPiece& piece, const UnfoldOptions& options,
@@ -505,22 +541,16 @@ bool flatten_piece(const Positions& positions, const LocalPiece& piece, const Un
   const PieceTopology uncut = piece_topology(piece, edges, no_cuts);
   const PieceDefects defects = piece_defects(positions, piece, uncut);
   step(0.02);
-  const double limit = strain_limit(options.seam_tolerance, defects);
-  const bool has_holes = uncut.loops.size() >= 2;
-  const std::vector<Holes> tries =
-      has_holes ? std::vector<Holes>{Holes::keep, Holes::join} : std::vector<Holes>{Holes::join};
-  for (const Holes holes : tries) {
-    std::vector<char> is_cut = no_cuts;
-    if (!choose_cuts(positions, piece, edges, holes, is_cut)) return false;
+  // A flat map of the piece cut by is_cut within the limit of `d` into *out.
+  const auto attempt = [&](const std::vector<char>& is_cut, const PieceDefects& d) {
     PieceTopology t = piece_topology(piece, edges, is_cut);
-    if (!t.flattenable()) continue;
+    if (!t.flattenable()) return false;
     step(0.03);
     int iterations = 0;
-    const auto uv = flat_map(positions, piece, edges, is_cut, t, options, defects.flat(), limit, progress, &iterations);
-    if (!uv) {
-      if (!has_holes) return false;
-      continue;
-    }
+    const double limit = strain_limit(options.seam_tolerance, d);
+    const auto uv = flat_map(positions, piece, edges, is_cut, t, options, limit > options.seam_tolerance || d.flat(),
+                             limit, progress, &iterations);
+    if (!uv) return false;
     out->corner_uv.resize(piece.tris.size() * 3);
     for (size_t c = 0; c < out->corner_uv.size(); ++c) out->corner_uv[c] = (*uv)[t.verts.of_corner[c]];
     out->outline = std::move(t.loops);
@@ -530,8 +560,19 @@ bool flatten_piece(const Positions& positions, const LocalPiece& piece, const Un
       if (is_cut[e]) out->cut_keys.push_back(edges.keys[e]);
     out->arap_iterations = iterations;
     return true;
+  };
+  std::vector<char> is_cut = no_cuts;
+  if (uncut.loops.size() >= 2) {  // holes kept first
+    if (!choose_cuts(positions, piece, edges, Holes::keep, is_cut)) return false;
+    if (attempt(is_cut, defects)) return true;
+    is_cut = no_cuts;
   }
-  return false;
+  if (!choose_cuts(positions, piece, edges, Holes::join, is_cut)) return false;
+  if (attempt(is_cut, defects)) return true;
+  if (strain_limit(options.seam_tolerance, defects) > options.seam_tolerance || defects.flat() ||
+      !cut_darts(positions, piece, edges, uncut, defects, is_cut))
+    return false;
+  return attempt(is_cut, piece_defects(positions, piece, piece_topology(piece, edges, is_cut)));
 }
 
 bool outline_is_simple(const std::vector<Vec2>& uv, const std::vector<std::array<int, 2>>& segments) {

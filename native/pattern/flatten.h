@@ -22,6 +22,7 @@ struct PieceDefects {
   std::vector<double> of_vertex;  // per vertex of the uncut piece; 0 on its border
   double largest = 0.0;           // max |defect| inside
   double sum = 0.0;               // sum of |defect| inside
+  double curved_sum = 0.0;        // the same over the vertices that are not flat
   int largest_vertex = -1;        // where the largest is, -1 without inner vertices
   // Every inner vertex flat (|defect| < kFlatDefect, core/measures.h): the
   // piece is developable by the engine's own measure.
@@ -35,8 +36,11 @@ PieceDefects piece_defects(const Positions& positions, const LocalPiece& piece, 
 // piece (every inner |defect| < kFlatDefect) max(seam_tolerance, sum |defect|
 // / (2 pi)), the strain that gathering all its curvature into one cone
 // vertex would need (a cone of defect d is laid flat by stretching its
-// circles by d / (2 pi - d), its rulings kept); any other piece
-// seam_tolerance, so that the two sides of a seam match within twice it.
+// circles by d / (2 pi - d), its rulings kept); so too a piece whose
+// vertices that are not flat need no more than the tolerance together
+// (curved_sum / (2 pi) <= seam_tolerance: one vertex at 3e-3 rad left by
+// the engine costs 5e-4); any other piece seam_tolerance, so that the two
+// sides of a seam match within twice it.
 double strain_limit(double seam_tolerance, const PieceDefects& defects);
 
 // One piece laid flat.
@@ -53,8 +57,13 @@ struct FlatPiece {
 // first from a central face by their edge lengths (exact on a developable
 // disc), else least-squares conformal maps with two far outline vertices
 // pinned, scaled to the 3D area, refined by as-rigid-as-possible rounds
-// (the cotangent Laplacian factored once); on a flat piece the breadth-first
-// map is the refinement's first start whatever its strain. A map is kept when
+// (the cotangent Laplacian factored once); on a piece held to more than the
+// tolerance (nearly developable) the breadth-first map is the refinement's
+// first start whatever its strain. A piece none of whose maps keeps the
+// limit, and whose vertices that are not flat are at most 8 cones, gets a
+// dart to each (a slit along the shortest edge path to the border, which
+// opens there) and is tried once more, held then to the limit of its flat
+// inner vertices. A map is kept when
 // every flat triangle is positive, the angles around every inner vertex sum
 // to 2 pi (at most 2 pi on the outline), no two outline edges cross, and
 // no edge strains beyond `strain_limit`. Returns false when none is: the piece must

@@ -27,11 +27,53 @@ TEST(StrainLimit, FlatPiecesMayStrainAsMuchAsTheirCurvatureNeeds) {
   EXPECT_NEAR(strain_limit(0.0025, flat), 0.3 / (2 * M_PI), 1e-15);
   flat.sum = 1e-4;  // the tolerance is the floor
   EXPECT_EQ(strain_limit(0.0025, flat), 0.0025);
-  PieceDefects curved = flat;
-  curved.largest = kFlatDefect;  // one vertex not flat: the tolerance alone
-  curved.sum = 0.3;
+  PieceDefects nearly = flat;  // one vertex at 3e-3 rad: it needs 4.8e-4, under the tolerance
+  nearly.largest = 3e-3;
+  nearly.curved_sum = 3e-3;
+  nearly.sum = 0.3;
+  EXPECT_NEAR(strain_limit(0.0025, nearly), 0.3 / (2 * M_PI), 1e-15);
+  PieceDefects curved = nearly;  // vertices that are not flat needing more than the tolerance
+  curved.curved_sum = 2 * M_PI * 0.0026;
   EXPECT_EQ(strain_limit(0.0025, curved), 0.0025);
   EXPECT_TRUE(std::isinf(strain_limit(0.0, curved)));
+}
+
+// A cone of `rings` rings and `sectors` sectors around its apex (vertex 0):
+// every vertex but the apex flat, the apex's defect 2 pi (1 - sin(half angle)).
+test::Mesh apex_cone(int rings, int sectors) {
+  test::Mesh m;
+  m.positions.resize(1 + rings * sectors, 3);
+  m.positions.row(0) << 0, 0, 1;
+  for (int r = 1; r <= rings; ++r)
+    for (int s = 0; s < sectors; ++s) {
+      const double a = 2 * M_PI * s / sectors, t = static_cast<double>(r) / rings;
+      m.positions.row(1 + (r - 1) * sectors + s) << t * std::cos(a), t * std::sin(a), 1 - t;
+    }
+  std::vector<std::array<int, 3>> tris;
+  for (int s = 0; s < sectors; ++s) tris.push_back({0, 1 + s, 1 + (s + 1) % sectors});
+  for (int r = 1; r < rings; ++r)
+    for (int s = 0; s < sectors; ++s) {
+      const int a = 1 + (r - 1) * sectors + s, b = 1 + (r - 1) * sectors + (s + 1) % sectors;
+      tris.push_back({a, a + sectors, b + sectors});
+      tris.push_back({a, b + sectors, b});
+    }
+  m.triangles.resize(tris.size(), 3);
+  for (size_t f = 0; f < tris.size(); ++f) m.triangles.row(f) << tris[f][0], tris[f][1], tris[f][2];
+  return m;
+}
+
+TEST(Unfold, AConeApexGetsADartNotASplit) {
+  // The apex (defect 2 pi (1 - 1/sqrt 2) = 1.84 rad) cannot lie flat inside
+  // a piece; a dart from it to the border opens it, and the cone, flat
+  // everywhere else, is one exact piece.
+  const auto m = apex_cone(6, 24);
+  const UnfoldResult r = unfold(m.positions, m.triangles, {});
+  ASSERT_EQ(r.pieces.size(), 1u);
+  EXPECT_EQ(r.split_count, 0);
+  EXPECT_EQ(r.pieces[0].cut_edges, 6);  // apex to rim along one ruling
+  EXPECT_LT(r.pieces[0].max_strain, 1e-9);
+  ASSERT_EQ(r.seams.size(), 1u);
+  EXPECT_TRUE(r.seams[0].cut);
 }
 
 TEST(PieceDefects, InnerVerticesOnly) {

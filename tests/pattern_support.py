@@ -2,7 +2,9 @@
 on the build's library, a PNG reader for rsvg-convert's output and
 geometric checks of an unfolding."""
 import pathlib
+import re
 import struct
+import xml.etree.ElementTree as ET
 import zlib
 
 import numpy as np
@@ -114,3 +116,130 @@ def edge_strain(positions, triangles, corners):
 def face_areas(positions, triangles):
     p = positions[triangles]
     return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+
+
+def square_to_round(rows=24, cols=96, noise=0.02, seed=1, side=1.0, radius=0.45, height=0.8):
+    """A lofted square-to-round duct transition (open at both ends): each
+    point of the square's perimeter joined by a straight line to the point of
+    the circle at the same angle around, as a sheet-metal loft; a grid of
+    rows x cols vertices closed around, its vertices moved by a uniform
+    random amount in +-noise times the mean edge length (seeded)."""
+    angle = 2 * np.pi * np.arange(cols) / cols
+    direction = np.c_[np.cos(angle), np.sin(angle)]
+    square = direction / np.abs(direction).max(axis=1, keepdims=True) * side / 2
+    circle = direction * radius
+    v = np.linspace(0.0, 1.0, rows + 1)[:, None, None]
+    ring = (1 - v) * square[None] + v * circle[None]
+    pos = np.concatenate([ring, np.broadcast_to(v * height, ring.shape[:2] + (1,))], axis=2).reshape(-1, 3)
+    tri = []
+    for r in range(rows):
+        for c in range(cols):
+            a, b = r * cols + c, r * cols + (c + 1) % cols
+            tri += [(a, b, b + cols), (a, b + cols, a + cols)]
+    tri = np.array(tri, dtype=np.int32)
+    edges = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1), axis=0)
+    ae = np.linalg.norm(pos[edges[:, 0]] - pos[edges[:, 1]], axis=1).mean()
+    pos = pos + np.random.default_rng(seed).uniform(-1, 1, pos.shape) * noise * ae
+    return pos, tri
+
+
+def holed_plate(seed=1, bent=False, points=1500):
+    """An exact developable plate with 1-3 round holes, any triangulation: a
+    Delaunay triangulation of random points (seeded) in a 2 x 1.2 rectangle,
+    each hole's circle sampled by vertices, the triangles inside the holes
+    removed; bent: rolled around a cylinder of radius 1 (x becomes arc
+    length), which keeps every length."""
+    from scipy.spatial import Delaunay
+
+    rng = np.random.default_rng(seed)
+    w, h = 2.0, 1.2
+    holes = []
+    while len(holes) < rng.integers(1, 4):
+        c, r = rng.uniform([0.3, 0.3], [w - 0.3, h - 0.3]), rng.uniform(0.08, 0.22)
+        if (
+            all(np.linalg.norm(c - c2) > r + r2 + 0.1 for c2, r2 in holes)
+            and (c - r > 0.05).all()
+            and (c + r < [w - 0.05, h - 0.05]).all()
+        ):
+            holes.append((c, r))
+    spacing = np.sqrt(w * h / points)
+    pts = [rng.uniform([0, 0], [w, h], (points, 2))]
+    for t in np.linspace(0, 1, int(w / spacing), endpoint=False):
+        pts.append([[t * w, 0], [w - t * w, h]])
+    for t in np.linspace(0, 1, int(h / spacing), endpoint=False):
+        pts.append([[0, h - t * h], [w, t * h]])
+    for c, r in holes:
+        k = max(12, int(2 * np.pi * r / spacing))
+        a = 2 * np.pi * np.arange(k) / k
+        pts.append(c + r * np.c_[np.cos(a), np.sin(a)])
+    p = np.concatenate([np.asarray(q, dtype=float).reshape(-1, 2) for q in pts])
+    keep = np.ones(len(p), dtype=bool)
+    for c, r in holes:  # no free point inside a hole or too near its circle
+        d = np.linalg.norm(p - c, axis=1)
+        keep &= ~((d < r + 0.5 * spacing) & (np.abs(d - r) > 1e-12))
+    p = p[keep]
+    tri = Delaunay(p).simplices
+    centre = p[tri].mean(axis=1)
+    inside = np.zeros(len(tri), dtype=bool)
+    for c, r in holes:
+        inside |= np.linalg.norm(centre - c, axis=1) < r
+    tri = tri[~inside]
+    a = p[tri]
+    area = np.cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0])
+    tri = np.where((area < 0)[:, None], tri[:, [0, 2, 1]], tri)[np.abs(area) > 1e-9].astype(np.int32)
+    used = np.unique(tri)
+    remap = -np.ones(len(p), dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    p, tri = p[used], remap[tri].astype(np.int32)
+    if bent:
+        pos = np.c_[np.sin(p[:, 0]), p[:, 1], 1 - np.cos(p[:, 0])]
+    else:
+        pos = np.c_[p, np.zeros(len(p))]
+    return pos, tri, len(holes)
+
+
+GLYPH_WIDTH = 0.8  # em per glyph, as native/pattern/pattern_labels.h counts it
+
+
+def label_boxes(svg_path):
+    """(x0, y0, x1, y1) of every text label of the SVG, mm: centred on its
+    point (the baseline is 0.35 em below it), GLYPH_WIDTH em per glyph, 1.2 em
+    high, the box around it turned by its rotate()."""
+    boxes = []
+    for node in ET.parse(svg_path).getroot().iter("{http://www.w3.org/2000/svg}text"):
+        if node.get("font-size") is None:
+            continue  # the scale bar's captions
+        size = float(node.get("font-size"))
+        x, y = float(node.get("x")), float(node.get("y")) - 0.35 * size
+        angle = 0.0
+        m = re.match(r"rotate\(([-0-9.e]+)", node.get("transform") or "")
+        if m:
+            angle = np.radians(float(m.group(1)))
+        half_w, half_h = 0.5 * GLYPH_WIDTH * size * len(node.text), 0.6 * size
+        c, s = abs(np.cos(angle)), abs(np.sin(angle))
+        hx, hy = c * half_w + s * half_h, s * half_w + c * half_h
+        boxes.append((x - hx, y - hy, x + hx, y + hy))
+    return boxes
+
+
+def nearly_developable(positions, triangles, tolerance=0.0025):
+    """Whether the inner vertices that are not flat (|defect| >= 1e-3) of a
+    piece of these faces need no more strain than the tolerance together
+    (their sum of |defect| / (2 pi)): every vertex flat, or nearly."""
+    from devkit import families
+
+    defect, inner = families.angle_defects(positions, triangles)
+    d = np.abs(defect[inner])
+    return d[d >= 1e-3].sum() / (2 * np.pi) <= tolerance
+
+
+def strain_bound(positions, triangles, tolerance=0.0025):
+    """The strain a piece of these faces may keep (docs/pattern.md, the rule):
+    when it is nearly developable, the larger of the tolerance and the sum of
+    |defect| over its inner vertices / (2 pi); else the tolerance."""
+    from devkit import families
+
+    if not nearly_developable(positions, triangles, tolerance):
+        return tolerance
+    defect, inner = families.angle_defects(positions, triangles)
+    return max(tolerance, np.abs(defect[inner]).sum() / (2 * np.pi))

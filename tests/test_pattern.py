@@ -10,7 +10,20 @@ import pytest
 
 from devkit import meshes
 from devkit.obj import read_obj
-from pattern_support import edge_strain, face_areas, load_native, overlapping_triangles, read_png, signed_areas
+from devkit import families
+from pattern_support import (
+    edge_strain,
+    face_areas,
+    holed_plate,
+    label_boxes,
+    load_native,
+    nearly_developable,
+    overlapping_triangles,
+    read_png,
+    signed_areas,
+    square_to_round,
+    strain_bound,
+)
 
 SEAM_COLOUR = "#c0392b"
 
@@ -199,12 +212,14 @@ def test_human_woman_seams_match(woman_pattern):
         assert abs(seam["length_a"] - seam["length_b"]) <= 0.005 * seam["length_3d"], seam
         edges = seam["vertices"]
         assert np.isclose(np.linalg.norm(pos[edges[:, 0]] - pos[edges[:, 1]], axis=1).sum(), seam["length_3d"])
-    # Both sides of every seam carry its label on the sheets.
+    # A seam's label is on its sides where there is room beside its notch
+    # (never over another label: test_labels_do_not_overlap), at most twice.
     labels = seam_labels_in_svgs(pattern.files)
     counts = {}
     for text in labels:
         counts[text] = counts.get(text, 0) + 1
-    assert counts == {s["label"]: 2 for s in pattern.seams}
+    assert set(counts) <= {s["label"] for s in pattern.seams} and max(counts.values()) <= 2
+    assert len(labels) >= 0.8 * 2 * len(pattern.seams)
 
 
 def test_face_groups_stay_together(native):
@@ -337,15 +352,16 @@ def polygon_area(polygon):
     return 0.5 * (x * np.roll(y, -1) - np.roll(x, -1) * y).sum()
 
 
-def self_crossings(polygon):
-    """Pairs of non-adjacent edges of the closed polygon that cross properly."""
+def self_crossings(polygon, tolerance=1e-3):
+    """Pairs of non-adjacent edges of the closed polygon that cross properly: each edge's ends more
+    than `tolerance` (mm; the SVG rounds to 1e-4) on either side of the other's line."""
     a, b = polygon, np.roll(polygon, -1, axis=0)
     e = b - a
 
     def side(p, q, r):
-        return np.sign(
-            (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
-        )
+        cross = (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+        distance = cross / np.maximum(np.linalg.norm(q - p, axis=-1), 1e-300)
+        return np.where(np.abs(distance) > tolerance, np.sign(distance), 0)
 
     A, B = a[:, None], b[:, None]
     C, D = a[None], b[None]
@@ -451,3 +467,130 @@ def test_bad_input_gets_a_status(native, tmp_path):
     with pytest.raises(native.EngineError) as err:
         native.unfold(pos, tri, params={"scale": 0}, svg_path=str(tmp_path / "missing" / "x.svg"))
     assert err.value.status_name == "INVALID_ARGUMENT" and "cannot write" in err.value.message
+
+
+def overlapping_pairs(boxes):
+    """Pairs of (x0, y0, x1, y1) boxes whose insides overlap (touching is apart), on a grid."""
+    cells, pairs = {}, set()
+    for i, (x0, y0, x1, y1) in enumerate(boxes):
+        for cx in range(int(np.floor(x0 / 5)), int(np.floor(x1 / 5)) + 1):
+            for cy in range(int(np.floor(y0 / 5)), int(np.floor(y1 / 5)) + 1):
+                for j in cells.setdefault((cx, cy), []):
+                    a = boxes[j]
+                    if x0 < a[2] - 1e-6 and a[0] < x1 - 1e-6 and y0 < a[3] - 1e-6 and a[1] < y1 - 1e-6:
+                        pairs.add((j, i))
+                cells[(cx, cy)].append(i)
+    return pairs
+
+
+def test_labels_do_not_overlap(woman_pattern):
+    # human_woman's pieces after the engine, their labels and both sides'
+    # seam labels: no two boxes (0.8 em per glyph, 1.2 em high) overlap.
+    _, _, pattern = woman_pattern
+    for path in pattern.files:
+        boxes = label_boxes(path)
+        assert len(boxes) > 10
+        assert overlapping_pairs(boxes) == set(), path
+
+
+def test_label_overlap_check_can_fail():
+    assert overlapping_pairs([(0, 0, 2, 1), (1.5, 0.5, 3, 2), (3, 0, 4, 1)]) == {(0, 1)}
+
+
+def flat_patches(positions, triangles, patch_ids):
+    """Whether every inner vertex of every patch is flat (|defect| < 1e-3)."""
+    for patch in np.unique(patch_ids):
+        defect, inner = families.angle_defects(positions, triangles[patch_ids == patch])
+        if (np.abs(defect[inner]) >= 1e-3).any():
+            return False
+    return True
+
+
+# Held-out seeds: the rules were measured on human_woman, spot, sphere caps and
+# a bent sheet of seed 1, not on these. (A tangent developable of a helix is
+# left out: its development can wind around and overlap itself, and is split
+# then, as it must be.)
+FAMILY_CASES = [
+    ("cylinder_patch", 301),
+    ("cone_patch", 302),
+    ("generalized_cone", 303),
+    ("generalized_cylinder", 304),
+    ("bent_sheet", 305),
+    ("curved_fold", 306),
+    ("plane", 307),
+    ("cone_band", 308),
+]
+
+
+@pytest.mark.parametrize("family,seed", FAMILY_CASES)
+def test_noisy_developables_unfold_into_their_patches(native, family, seed):
+    # A noisy developable of any triangulation after the engine: each patch
+    # that is (nearly) developable is one piece, its strain within the stated
+    # bound (strain_bound: the rule of docs/pattern.md measured here from the
+    # mesh).
+    mesh = families.random_case(family, seed, faces=(800, 3000))
+    result = native.run(mesh.positions, mesh.triangles)
+    tri = mesh.triangles
+    pattern = native.unfold(result.positions, tri, result.patch_ids, params={"layout": 0})
+    strain = edge_strain(result.positions, tri, pattern.corner_uvs).max(axis=1)
+    for patch in np.unique(result.patch_ids):
+        faces = result.patch_ids == patch
+        if not nearly_developable(result.positions, tri[faces]):
+            continue  # the tolerance decides
+        assert len(np.unique(pattern.piece_ids[faces])) == 1, (family, seed, mesh.triangulation, patch)
+        assert strain[faces].max() <= strain_bound(result.positions, tri[faces]) + 1e-12
+    assert flat_patches(result.positions, tri, result.patch_ids) or family == "cone_band"
+    assert (signed_areas(pattern.corner_uvs) > 0).all()
+
+
+def test_bent_sheet_is_one_piece(native):
+    # A bent sheet of 20k faces, noise 2 %, after the engine: one piece.
+    mesh = families.make("bent_sheet", "irregular", faces=20000, noise=0.02, seed=311)
+    result = native.run(mesh.positions, mesh.triangles)
+    pattern = native.unfold(result.positions, mesh.triangles, result.patch_ids, params={"layout": 0})
+    assert flat_patches(result.positions, mesh.triangles, result.patch_ids)
+    assert pattern.stats["pieces"] == result.stats["patches"] == 1
+    assert pattern.stats["max_strain"] <= strain_bound(result.positions, mesh.triangles)
+
+
+@pytest.mark.parametrize("seed", [4, 5, 6, 7])
+def test_noisy_duct_is_one_piece(native, seed):
+    # A lofted square-to-round transition with 2 % noise, after the engine: one
+    # piece (cut once across) when its vertices that are not flat (the engine
+    # leaves a few at 1-3e-3 rad on some seeds) need no more strain than the
+    # tolerance together, within the bound; as it is (not developable) it
+    # needs tens of pieces.
+    pos, tri = square_to_round(seed=seed)
+    result = native.run(pos, tri)
+    pattern = native.unfold(result.positions, tri, result.patch_ids, params={"layout": 0})
+    assert nearly_developable(result.positions, tri)
+    bound = strain_bound(result.positions, tri)
+    assert pattern.stats["pieces"] == 1 and pattern.stats["cut_edges"] > 0
+    assert pattern.stats["max_strain"] <= bound
+    assert native.unfold(pos, tri, params={"layout": 0}).stats["pieces"] > 5
+
+
+@pytest.mark.parametrize("seed", [11, 12, 13])
+@pytest.mark.parametrize("bent", [False, True])
+def test_plate_with_holes_is_one_piece_without_slits(native, tmp_path, seed, bent):
+    pos, tri, holes = holed_plate(seed=seed, bent=bent)
+    svg = tmp_path / "plate.svg"
+    pattern = native.unfold(pos, tri, params={"scale": 0}, svg_path=str(svg))
+    st = pattern.stats
+    assert st["pieces"] == 1 and st["cut_edges"] == 0 and st["seams"] == 0
+    assert st["max_strain"] <= (1e-9 if not bent else 0.0025)
+    # The cut line: the outline and one loop per hole.
+    cut = svg_path_data(svg, "cut-lines")
+    assert len(cut) == 1 and list(cut.values())[0].count("M") == 1 + holes
+    assert (signed_areas(pattern.corner_uvs) > 0).all()
+    assert overlapping_triangles(pattern.corner_uvs, np.arange(len(tri))) == []
+
+
+def svg_path_data(path, group):
+    """piece label -> the d attribute of its path in the SVG group."""
+    out = {}
+    for g in ET.parse(path).getroot().iter(SVG + "g"):
+        if g.get("id") == group:
+            for node in g.iter(SVG + "path"):
+                out[node.get("id").split("-", 1)[1]] = node.get("d")
+    return out

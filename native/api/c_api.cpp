@@ -495,6 +495,7 @@ int32_t dev_unfold(const double* positions, int64_t n_vertices, const int32_t* t
 
     std::pair<dev_progress_fn, void*> callback{progress, user};
     const developable::Progress report{progress != nullptr ? call_progress : nullptr, &callback};
+    report.report(0.0, "unfolding");
     auto owned = std::make_unique<dev_pattern>();
     owned->unfolded =
         developable::unfold(opened.positions, opened.triangles, patches, unfold_options, groups, report.sub(0.0, 0.8));

@@ -1,6 +1,7 @@
 #include "pattern/pattern_layout.h"
 
 #include "pattern/glue_tabs.h"
+#include "pattern/pattern_labels.h"
 #include "pattern/plane_geometry.h"
 #include "pattern/seam_allowance.h"
 
@@ -109,9 +110,7 @@ void add_tabs(const UnfoldResult& unfolded, const Triangles& triangles, double h
   std::vector<std::vector<TabRun>> runs(piece_count);
   std::vector<std::vector<size_t>> seam_of(piece_count);
   std::vector<TabbedOutline> tabbed(piece_count);
-  const auto place = [&](size_t p) {
-    tabbed[p] = add_glue_tabs(outline_on_sheet(unfolded, layout.corners, p), runs[p], height);
-  };
+  const auto place = [&](size_t p) { tabbed[p] = add_glue_tabs(outline_on_sheet(layout, p), runs[p], height); };
   // Per seam: the runs without a tab of the side it ended on, plus one if
   // that side lost an edge.
   std::vector<int> dropped(seam_count, 0);
@@ -171,22 +170,7 @@ void add_tabs(const UnfoldResult& unfolded, const Triangles& triangles, double h
   for (int d : dropped) layout.glue_tabs_dropped += d;
 }
 
-}  // namespace
-
-std::vector<Vec2> outline_on_sheet(const UnfoldResult& unfolded, const FlatCorners& sheet_corners, size_t p) {
-  std::vector<Vec2> outline;
-  for (Eigen::Index row : unfolded.pieces[p].outline.front()) outline.push_back(sheet_corners.row(row).transpose());
-  return outline;
-}
-
-std::string piece_label(int index) {
-  std::string text;
-  for (int i = index + 1; i > 0; i = (i - 1) / 26) text.insert(text.begin(), static_cast<char>('A' + (i - 1) % 26));
-  return text;
-}
-
-Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, const LayoutOptions& options,
-                      const Progress& progress) {
+void check_options(const LayoutOptions& options) {
   const auto finite_positive = [](double x) { return std::isfinite(x) && x > 0.0; };
   if (!finite_positive(options.sheet_width) || !finite_positive(options.sheet_height))
     throw EngineError(Status::invalid_argument, "the sheet width and height must be positive (mm)");
@@ -203,123 +187,130 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, 
     throw EngineError(Status::invalid_argument, "the glue tabs' height must not be negative (mm)");
   if (options.seam_allowance > 0.0 && options.glue_tabs > 0.0)
     throw EngineError(Status::invalid_argument, "a seam allowance or glue tabs, not both");
-  const double allowance = options.seam_allowance;
-  // mm kept around every piece for what is cut outside its outline.
-  const double reserve = allowance + options.glue_tabs;
-  const double usable_w = options.sheet_width - 2.0 * options.margin;
-  const double usable_h = options.sheet_height - 2.0 * options.margin - options.footer;
-  if (usable_w <= 0.0 || usable_h <= 0.0)
+}
+
+// The printable room (mm) and what is kept around every piece.
+struct Room {
+  double width = 0.0, height = 0.0, reserve = 0.0;
+};
+
+Room printable_room(const LayoutOptions& options) {
+  Room room;
+  room.reserve = options.seam_allowance + options.glue_tabs;
+  room.width = options.sheet_width - 2.0 * options.margin;
+  room.height = options.sheet_height - 2.0 * options.margin - options.footer;
+  if (room.width <= 0.0 || room.height <= 0.0)
     throw EngineError(Status::invalid_argument, "the margins leave no room on the sheet");
-  if (2.0 * reserve >= std::min(usable_w, usable_h)) {
+  if (2.0 * room.reserve >= std::min(room.width, room.height)) {
     std::ostringstream message;
     message.precision(4);
-    message << (allowance > 0.0 ? "a seam allowance of " : "glue tabs of ") << reserve
-            << " mm leave no room for a piece on the printable " << usable_w << " x " << usable_h << " mm of the sheet";
+    message << (options.seam_allowance > 0.0 ? "a seam allowance of " : "glue tabs of ") << room.reserve
+            << " mm leave no room for a piece on the printable " << room.width << " x " << room.height
+            << " mm of the sheet";
     throw EngineError(Status::invalid_argument, message.str());
   }
+  return room;
+}
 
-  const size_t n_pieces = unfolded.pieces.size();
-  // Each piece upright in model units: turn, then its bounding box.
-  std::vector<double> turn(n_pieces);
-  std::vector<Eigen::AlignedBox2d> box(n_pieces);
-  for (size_t p = 0; p < n_pieces; ++p) {
-    progress.report(static_cast<double>(p) / static_cast<double>(n_pieces), "laying out");
+// Each piece upright in model units: its turn and its bounding box, lying.
+struct Upright {
+  std::vector<double> turn;
+  std::vector<Eigen::AlignedBox2d> box;
+};
+
+Upright upright_pieces(const UnfoldResult& unfolded, const Progress& progress) {
+  const size_t n = unfolded.pieces.size();
+  Upright u{std::vector<double>(n), std::vector<Eigen::AlignedBox2d>(n)};
+  for (size_t p = 0; p < n; ++p) {
+    if (p % 64 == 0) progress.report(0.5 * p / n, "laying out");
     std::vector<Vec2> points;
     for (const auto& loop : unfolded.pieces[p].outline)
       for (Eigen::Index row : loop) points.push_back(unfolded.corners.row(row).transpose());
-    turn[p] = upright_angle(convex_hull(points));
-    const Eigen::Rotation2Dd r(turn[p]);
-    for (const Vec2& q : points) box[p].extend(r * q);
-    if (box[p].sizes().x() < box[p].sizes().y()) {  // lying: shelves fill better
-      turn[p] += M_PI / 2;
-      box[p].setEmpty();
-      const Eigen::Rotation2Dd r2(turn[p]);
-      for (const Vec2& q : points) box[p].extend(r2 * q);
+    u.turn[p] = upright_angle(convex_hull(points));
+    for (int pass = 0; pass < 2; ++pass) {
+      const Eigen::Rotation2Dd r(u.turn[p]);
+      u.box[p].setEmpty();
+      for (const Vec2& q : points) u.box[p].extend(r * q);
+      if (u.box[p].sizes().x() >= u.box[p].sizes().y()) break;
+      u.turn[p] += M_PI / 2;  // lying: shelves fill better
     }
   }
-  // Standing (turned a quarter more) when only that fits: needs_stand[p].
-  const auto fits = [&](double mm_per_unit, std::vector<char>* stand) {
-    for (size_t p = 0; p < n_pieces; ++p) {
-      const double w = box[p].sizes().x() * mm_per_unit + 2.0 * reserve;
-      const double h = box[p].sizes().y() * mm_per_unit + 2.0 * reserve;
-      const bool lying = w <= usable_w && h <= usable_h;
-      const bool standing = h <= usable_w && w <= usable_h;
-      if (!lying && !standing) return static_cast<int>(p);
-      if (stand) (*stand)[p] = !lying;
-    }
-    return -1;
-  };
-  Layout layout;
-  layout.options = options;
-  double scale = options.scale;
-  if (scale == 0.0) {
-    for (double decade = 1.0; decade < 1e10 && scale == 0.0; decade *= 10.0)
-      for (double step : {1.0, 2.0, 5.0})
-        if (fits(options.unit_mm / (decade * step), nullptr) < 0) {
-          scale = 1.0 / (decade * step);
-          break;
-        }
-    if (scale == 0.0)
-      throw EngineError(Status::invalid_argument, "no scale down to 1:10^9 fits the pieces on the sheet");
-  }
-  layout.options.scale = scale;
-  const double mm_per_unit = scale * options.unit_mm;
-  std::vector<char> stand(n_pieces, 0);
-  const int too_big = fits(mm_per_unit, &stand);
-  if (too_big >= 0) {
-    const Eigen::Vector2d size = box[too_big].sizes() * mm_per_unit + Vec2::Constant(2.0 * reserve);
-    double fitting = 0.0;  // the largest 1-2-5 scale that would fit this piece
-    // (the reserve keeps its mm at any scale)
-    const double ratio = std::min((std::max(usable_w, usable_h) - 2.0 * reserve) / (size.x() - 2.0 * reserve),
-                                  (std::min(usable_w, usable_h) - 2.0 * reserve) / (size.y() - 2.0 * reserve));
-    for (double decade = 1.0; decade < 1e10 && fitting == 0.0; decade *= 10.0)
-      for (double step : {1.0, 2.0, 5.0})
-        if (1.0 / (decade * step) <= ratio) {
-          fitting = scale / (decade * step);
-          break;
-        }
-    std::ostringstream message;
-    message.precision(4);
-    message << "piece " << piece_label(too_big) << " is " << size.x() << " x " << size.y() << " mm at "
-            << format_scale(scale) << " and does not fit the printable " << usable_w << " x " << usable_h
-            << " mm of the " << options.sheet_width << " x " << options.sheet_height
-            << " mm sheet: use a larger sheet or a scale of " << format_scale(fitting) << " (" << fitting
-            << ") or smaller";
-    throw EngineError(Status::invalid_argument, message.str());
-  }
+  return u;
+}
 
-  // First-fit decreasing height on shelves across sheets.
+// The first piece that fits neither lying nor standing at `mm_per_unit`, or
+// -1; `stand` (if given) says which pieces only fit standing.
+int first_misfit(const Upright& u, const Room& room, double mm_per_unit, std::vector<char>* stand) {
+  for (size_t p = 0; p < u.box.size(); ++p) {
+    const double w = u.box[p].sizes().x() * mm_per_unit + 2.0 * room.reserve;
+    const double h = u.box[p].sizes().y() * mm_per_unit + 2.0 * room.reserve;
+    const bool lying = w <= room.width && h <= room.height;
+    const bool standing = h <= room.width && w <= room.height;
+    if (!lying && !standing) return static_cast<int>(p);
+    if (stand) (*stand)[p] = !lying;
+  }
+  return -1;
+}
+
+// The largest 1-2-5 scale at which every piece fits (throws if none does).
+double automatic_scale(const Upright& u, const Room& room, double unit_mm) {
+  for (double decade = 1.0; decade < 1e10; decade *= 10.0)
+    for (double step : {1.0, 2.0, 5.0})
+      if (first_misfit(u, room, unit_mm / (decade * step), nullptr) < 0) return 1.0 / (decade * step);
+  throw EngineError(Status::invalid_argument, "no scale down to 1:10^9 fits the pieces on the sheet");
+}
+
+[[noreturn]] void piece_does_not_fit(const Upright& u, const Room& room, const LayoutOptions& options, double scale,
+                                     int too_big) {
+  const double mm_per_unit = scale * options.unit_mm;
+  const Eigen::Vector2d size = u.box[too_big].sizes() * mm_per_unit + Vec2::Constant(2.0 * room.reserve);
+  double fitting = 0.0;  // the largest 1-2-5 scale that would fit this piece
+  // (the reserve keeps its mm at any scale)
+  const double ratio =
+      std::min((std::max(room.width, room.height) - 2.0 * room.reserve) / (size.x() - 2.0 * room.reserve),
+               (std::min(room.width, room.height) - 2.0 * room.reserve) / (size.y() - 2.0 * room.reserve));
+  for (double decade = 1.0; decade < 1e10 && fitting == 0.0; decade *= 10.0)
+    for (double step : {1.0, 2.0, 5.0})
+      if (1.0 / (decade * step) <= ratio) {
+        fitting = scale / (decade * step);
+        break;
+      }
+  std::ostringstream message;
+  message.precision(4);
+  message << "piece " << piece_label(too_big) << " is " << size.x() << " x " << size.y() << " mm at "
+          << format_scale(scale) << " and does not fit the printable " << room.width << " x " << room.height
+          << " mm of the " << options.sheet_width << " x " << options.sheet_height
+          << " mm sheet: use a larger sheet or a scale of " << format_scale(fitting) << " (" << fitting
+          << ") or smaller";
+  throw EngineError(Status::invalid_argument, message.str());
+}
+
+// First-fit decreasing height on shelves across sheets: each piece's sheet
+// and size in `layout`, the top left corner of its box in `origin`.
+std::vector<Vec2> shelve(const std::vector<Vec2>& sizes, const Room& room, const LayoutOptions& options,
+                         Layout& layout) {
   struct Shelf {
     int sheet;
     double top, height, used;
   };
   std::vector<Shelf> shelves;
   std::vector<double> sheet_filled;  // height used on each sheet
-  std::vector<size_t> order(n_pieces);
-  for (size_t p = 0; p < n_pieces; ++p) order[p] = p;
-  const auto placed_size = [&](size_t p) {
-    const Vec2 s = box[p].sizes() * mm_per_unit + Vec2::Constant(2.0 * reserve);
-    return stand[p] ? Vec2(s.y(), s.x()) : s;
-  };
-  std::stable_sort(order.begin(), order.end(),
-                   [&](size_t a, size_t b) { return placed_size(a).y() > placed_size(b).y(); });
-  layout.pieces.resize(n_pieces);
-  std::vector<Vec2> origin(n_pieces);  // top left corner of the piece's box on its sheet
+  std::vector<size_t> order(sizes.size());
+  for (size_t p = 0; p < sizes.size(); ++p) order[p] = p;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return sizes[a].y() > sizes[b].y(); });
+  std::vector<Vec2> origin(sizes.size());
   for (size_t p : order) {
-    const Vec2 size = placed_size(p);
+    const Vec2& size = sizes[p];
     Shelf* target = nullptr;
     for (Shelf& shelf : shelves)
-      if (size.y() <= shelf.height + 1e-9 && shelf.used + size.x() <= usable_w + 1e-9) {
+      if (size.y() <= shelf.height + 1e-9 && shelf.used + size.x() <= room.width + 1e-9) {
         target = &shelf;
         break;
       }
     if (target == nullptr) {
       int sheet = -1;
-      for (size_t s = 0; s < sheet_filled.size(); ++s)
-        if (sheet_filled[s] + size.y() <= usable_h + 1e-9) {
-          sheet = static_cast<int>(s);
-          break;
-        }
+      for (size_t s = 0; s < sheet_filled.size() && sheet < 0; ++s)
+        if (sheet_filled[s] + size.y() <= room.height + 1e-9) sheet = static_cast<int>(s);
       if (sheet < 0) {
         sheet = static_cast<int>(sheet_filled.size());
         sheet_filled.push_back(0.0);
@@ -334,110 +325,197 @@ Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, 
     layout.pieces[p].size = size;
   }
   layout.sheets = static_cast<int>(sheet_filled.size());
+  return origin;
+}
 
-  // Corners on the sheets: turned, scaled, y flipped so that the sheet shows
-  // the side the normals point to (no mirror), moved into the box.
-  layout.corners.setZero(unfolded.corners.rows(), 2);
-  const Eigen::Index nf = triangles.rows();
-  std::vector<std::vector<int>> faces_of(n_pieces);
-  for (Eigen::Index f = 0; f < nf; ++f) faces_of[unfolded.piece_of_face[f]].push_back(static_cast<int>(f));
-  for (size_t p = 0; p < n_pieces; ++p) {
-    const double angle = turn[p] + (stand[p] ? M_PI / 2 : 0.0);
-    const Eigen::Rotation2Dd r(angle);
-    Eigen::AlignedBox2d turned;
-    for (int f : faces_of[p])
-      for (int k = 0; k < 3; ++k) turned.extend(r * unfolded.corners.row(3 * f + k).transpose());
-    for (int f : faces_of[p])
-      for (int k = 0; k < 3; ++k) {
-        const Vec2 q = r * unfolded.corners.row(3 * f + k).transpose();
-        layout.corners.row(3 * f + k) << origin[p].x() + reserve + (q.x() - turned.min().x()) * mm_per_unit,
-            origin[p].y() + reserve + (turned.max().y() - q.y()) * mm_per_unit;
+// Piece p's corners and outline curves on its sheet: turned, scaled, y
+// flipped so that the sheet shows the side the normals point to (no
+// mirror), moved into its box.
+void place_piece(const UnfoldResult& unfolded, const std::vector<int>& faces, size_t p, double angle,
+                 const Vec2& corner, double mm_per_unit, Layout& layout) {
+  const Eigen::Rotation2Dd r(angle);
+  Eigen::AlignedBox2d turned;
+  for (int f : faces)
+    for (int k = 0; k < 3; ++k) turned.extend(r * unfolded.corners.row(3 * f + k).transpose());
+  const auto to_sheet = [&](const Vec2& x) {
+    const Vec2 q = r * x;
+    return Vec2(corner.x() + (q.x() - turned.min().x()) * mm_per_unit,
+                corner.y() + (turned.max().y() - q.y()) * mm_per_unit);
+  };
+  for (int f : faces)
+    for (int k = 0; k < 3; ++k)
+      layout.corners.row(3 * f + k) = to_sheet(unfolded.corners.row(3 * f + k).transpose()).transpose();
+  const UnfoldPiece& piece = unfolded.pieces[p];
+  auto& loops = layout.outlines[p];
+  loops.assign(piece.outline.size(), {});
+  for (size_t l = 0; l < piece.outline.size(); ++l) {
+    const bool curve = l < piece.outline_curve.size() && piece.outline_curve[l].size() == piece.outline[l].size();
+    for (size_t j = 0; j < piece.outline[l].size(); ++j)
+      loops[l].push_back(curve ? to_sheet(piece.outline_curve[l][j])
+                               : Vec2(layout.corners.row(piece.outline[l][j]).transpose()));
+  }
+}
+
+// The piece's label, inside it: at the face centre farthest from its outline
+// (sampled: at most 400 faces and 400 outline points per loop), so that it
+// sits well inside even a ring or a C-shaped piece, scaled so that its box
+// stays within that distance (and at most 10 mm, or 0.12 x the square root
+// of the piece's area).
+SheetLabel piece_label_inside(const Layout& layout, const std::vector<int>& faces, size_t p) {
+  const auto corner = [&](int f, int k) -> Vec2 { return layout.corners.row(3 * f + k).transpose(); };
+  double area_sum = 0.0;
+  for (int f : faces) area_sum += std::abs(cross2(corner(f, 1) - corner(f, 0), corner(f, 2) - corner(f, 0))) / 2;
+  std::vector<Vec2> rim;
+  for (const auto& loop : layout.outlines[p]) {
+    const size_t step = std::max<size_t>(1, loop.size() / 400);
+    for (size_t i = 0; i < loop.size(); i += step) rim.push_back(loop[i]);
+  }
+  const size_t face_step = std::max<size_t>(1, faces.size() / 400);
+  Vec2 best_at = Vec2::Zero();
+  double room = -1.0;
+  for (size_t i = 0; i < faces.size(); i += face_step) {
+    const Vec2 c = (corner(faces[i], 0) + corner(faces[i], 1) + corner(faces[i], 2)) / 3.0;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Vec2& q : rim) nearest = std::min(nearest, (q - c).norm());
+    if (nearest > room) room = nearest, best_at = c;
+  }
+  SheetLabel label;
+  label.text = piece_label(static_cast<int>(p));
+  label.sheet = layout.pieces[p].sheet;
+  label.at = best_at;
+  const Eigen::AlignedBox2d unit = label_box(label.text, Vec2::Zero(), 1.0, 0.0);
+  const double fit = room / (0.5 * unit.sizes().norm());
+  label.size = std::min({0.12 * std::sqrt(area_sum), fit, 10.0});
+  return label;
+}
+
+// The match marks of seam s on both sides: a notch at the seam's middle and
+// the seam's label beside it, inside the piece, where its box is free in
+// `space` (along the seam near its middle, shrunk to half size at most;
+// else the label is left out, text empty).
+void seam_marks(const UnfoldResult& unfolded, const Triangles& triangles, size_t s, std::vector<LabelSpace>& space,
+                Layout& layout) {
+  const UnfoldSeam& seam = unfolded.seams[s];
+  const double allowance = layout.options.seam_allowance;
+  for (int side = 0; side < 2; ++side) {
+    const auto corner_at = [&](int f, int v) -> Vec2 {
+      for (int k = 0; k < 3; ++k)
+        if (triangles(f, k) == v) return layout.corners.row(3 * f + k).transpose();
+      return Vec2::Zero();
+    };
+    // The seam on this side: its points and their arc lengths.
+    std::vector<Vec2> points{corner_at(seam.faces[0][side], seam.edges[0][0])};
+    std::vector<double> arc{0.0};
+    std::vector<int> face_of;
+    for (size_t i = 0; i < seam.edges.size(); ++i) {
+      const int f = seam.faces[i][side];
+      points.push_back(corner_at(f, seam.edges[i][1]));
+      arc.push_back(arc.back() + (points.back() - points[points.size() - 2]).norm());
+      face_of.push_back(f);
+    }
+    const double length = arc.back();
+    const auto at_arc = [&](double t, Vec2* tangent, Vec2* inward) {
+      size_t i = 0;
+      while (i + 2 < points.size() && arc[i + 1] < t) ++i;
+      const double l = arc[i + 1] - arc[i];
+      const Vec2 a = points[i], b = points[i + 1];
+      *tangent = l > 0 ? Vec2((b - a) / l) : Vec2(1, 0);
+      *inward = Vec2(-tangent->y(), tangent->x());
+      const int f = face_of[i];
+      const Vec2 centre =
+          (corner_at(f, triangles(f, 0)) + corner_at(f, triangles(f, 1)) + corner_at(f, triangles(f, 2))) / 3.0;
+      const Vec2 x = a + (b - a) * std::clamp(l > 0 ? (t - arc[i]) / l : 0.5, 0.0, 1.0);
+      if (inward->dot(centre - x) < 0) *inward = -*inward;
+      return x;
+    };
+    MatchMark mark;
+    mark.seam = static_cast<int>(s);
+    mark.side = side;
+    Vec2 tangent, inward;
+    const Vec2 middle = at_arc(0.5 * length, &tangent, &inward);
+    const double size = std::clamp(0.4 * length, 1.2, 3.0);
+    mark.notch_from = middle - inward * allowance;  // across the allowance to the cut line
+    mark.notch_to = middle + inward * 0.6 * size;
+    mark.label.sheet = layout.pieces[side == 0 ? seam.piece_a : seam.piece_b].sheet;
+    for (double shrink : {1.0, 0.7, 0.5, 0.35, 0.25}) {
+      for (double side_of_seam : {1.3, -1.3}) {  // inside the piece, else outside it
+        for (double t : {0.5, 0.35, 0.65, 0.2, 0.8}) {
+          const Vec2 x = at_arc(t * length, &tangent, &inward);
+          double degrees = std::atan2(tangent.y(), tangent.x()) * 180.0 / M_PI;
+          if (degrees > 90.0) degrees -= 180.0;
+          if (degrees < -90.0) degrees += 180.0;
+          const Vec2 at = x + inward * side_of_seam * size * shrink;
+          const Eigen::AlignedBox2d box = label_box(layout.seam_labels[s], at, size * shrink, degrees);
+          if (!space[mark.label.sheet].free(box)) continue;
+          space[mark.label.sheet].add(box);
+          mark.label = {layout.seam_labels[s], mark.label.sheet, at, size * shrink, degrees};
+          break;
+        }
+        if (!mark.label.text.empty()) break;
       }
+      if (!mark.label.text.empty()) break;
+    }
+    if (mark.label.text.empty()) ++layout.labels_left_out;
+    layout.marks.push_back(mark);
+  }
+}
+
+}  // namespace
+
+std::vector<Vec2> outline_on_sheet(const Layout& layout, size_t p, size_t loop) { return layout.outlines[p][loop]; }
+
+std::string piece_label(int index) {
+  std::string text;
+  for (int i = index + 1; i > 0; i = (i - 1) / 26) text.insert(text.begin(), static_cast<char>('A' + (i - 1) % 26));
+  return text;
+}
+
+Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, const LayoutOptions& options,
+                      const Progress& progress) {
+  check_options(options);
+  const Room room = printable_room(options);
+  const size_t n_pieces = unfolded.pieces.size();
+  const Upright upright = upright_pieces(unfolded, progress);
+  Layout layout;
+  layout.options = options;
+  const double scale = options.scale == 0.0 ? automatic_scale(upright, room, options.unit_mm) : options.scale;
+  layout.options.scale = scale;
+  const double mm_per_unit = scale * options.unit_mm;
+  std::vector<char> stand(n_pieces, 0);
+  const int too_big = first_misfit(upright, room, mm_per_unit, &stand);
+  if (too_big >= 0) piece_does_not_fit(upright, room, options, scale, too_big);
+  std::vector<Vec2> sizes(n_pieces);
+  for (size_t p = 0; p < n_pieces; ++p) {
+    const Vec2 s = upright.box[p].sizes() * mm_per_unit + Vec2::Constant(2.0 * room.reserve);
+    sizes[p] = stand[p] ? Vec2(s.y(), s.x()) : s;
+  }
+  layout.pieces.resize(n_pieces);
+  const std::vector<Vec2> origin = shelve(sizes, room, options, layout);
+
+  layout.corners.setZero(unfolded.corners.rows(), 2);
+  layout.outlines.resize(n_pieces);
+  std::vector<std::vector<int>> faces_of(n_pieces);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+    faces_of[unfolded.piece_of_face[f]].push_back(static_cast<int>(f));
+  std::vector<LabelSpace> space(static_cast<size_t>(layout.sheets));
+  for (size_t p = 0; p < n_pieces; ++p) {
+    if (p % 64 == 0) progress.report(0.5 + 0.4 * p / n_pieces, "laying out");
+    place_piece(unfolded, faces_of[p], p, upright.turn[p] + (stand[p] ? M_PI / 2 : 0.0),
+                origin[p] + Vec2::Constant(room.reserve), mm_per_unit, layout);
     // The cut line: the outline offset by the allowance, drawn to within
     // kCutLineTolerance.
-    if (allowance > 0.0) {
-      OffsetOutline cut = offset_outline(outline_on_sheet(unfolded, layout.corners, p), allowance, kCutLineTolerance);
+    if (options.seam_allowance > 0.0) {
+      OffsetOutline cut = offset_outline(outline_on_sheet(layout, p), options.seam_allowance, kCutLineTolerance);
       layout.pieces[p].cut_line = std::move(cut.points);
       layout.pieces[p].cut_line_from_hull = cut.from_hull;
     }
-    // The label: at the face centre farthest from the outline (sampled: at
-    // most 400 faces and 400 outline corners), so that it sits well inside
-    // even a ring or a C-shaped piece; its size fits that room.
-    const auto corner = [&](int f, int k) -> Vec2 { return layout.corners.row(3 * f + k).transpose(); };
-    double area_sum = 0.0;
-    for (int f : faces_of[p])
-      area_sum += std::abs(cross2(corner(f, 1) - corner(f, 0), corner(f, 2) - corner(f, 0))) / 2;
-    std::vector<Vec2> rim;
-    for (const auto& loop : unfolded.pieces[p].outline) {
-      const size_t step = std::max<size_t>(1, loop.size() / 400);
-      for (size_t i = 0; i < loop.size(); i += step) rim.push_back(layout.corners.row(loop[i]).transpose());
-    }
-    const size_t face_step = std::max<size_t>(1, faces_of[p].size() / 400);
-    Vec2 best_at = Vec2::Zero();
-    double room = -1.0;
-    for (size_t i = 0; i < faces_of[p].size(); i += face_step) {
-      const int f = faces_of[p][i];
-      const Vec2 c = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
-      double nearest = std::numeric_limits<double>::infinity();
-      for (const Vec2& q : rim) nearest = std::min(nearest, (q - c).norm());
-      if (nearest > room) room = nearest, best_at = c;
-    }
-    SheetLabel& label = layout.pieces[p].label;
-    label.text = piece_label(static_cast<int>(p));
-    label.sheet = layout.pieces[p].sheet;
-    label.at = best_at;
-    label.size = std::clamp(std::min(0.12 * std::sqrt(area_sum), 1.2 * room), 1.5, 10.0);
+    layout.pieces[p].label = piece_label_inside(layout, faces_of[p], p);
+    const SheetLabel& label = layout.pieces[p].label;
+    space[label.sheet].add(label_box(label.text, label.at, label.size, label.angle));
   }
-
-  // Match marks: the same label on both sides of every seam, at its middle.
-  for (size_t s = 0; s < unfolded.seams.size(); ++s) {
-    const UnfoldSeam& seam = unfolded.seams[s];
-    layout.seam_labels.push_back(std::to_string(s + 1));
-    for (int side = 0; side < 2; ++side) {
-      const auto corner_at = [&](int f, int v) -> Vec2 {
-        for (int k = 0; k < 3; ++k)
-          if (triangles(f, k) == v) return layout.corners.row(3 * f + k).transpose();
-        return Vec2::Zero();
-      };
-      double length = 0.0;
-      for (size_t i = 0; i < seam.edges.size(); ++i)
-        length += (corner_at(seam.faces[i][side], seam.edges[i][1]) - corner_at(seam.faces[i][side], seam.edges[i][0]))
-                      .norm();
-      double walked = 0.0;
-      for (size_t i = 0; i < seam.edges.size(); ++i) {
-        const int f = seam.faces[i][side];
-        const Vec2 a = corner_at(f, seam.edges[i][0]), b = corner_at(f, seam.edges[i][1]);
-        const double l = (b - a).norm();
-        if (walked + l < length / 2 && i + 1 < seam.edges.size()) {
-          walked += l;
-          continue;
-        }
-        const Vec2 middle = a + (b - a) * std::clamp(l > 0 ? (length / 2 - walked) / l : 0.5, 0.0, 1.0);
-        const Vec2 tangent = l > 0 ? Vec2((b - a) / l) : Vec2(1, 0);
-        Vec2 inward(-tangent.y(), tangent.x());
-        const Vec2 centre = (layout.corners.row(3 * f).transpose() + layout.corners.row(3 * f + 1).transpose() +
-                             layout.corners.row(3 * f + 2).transpose()) /
-                            3.0;
-        if (inward.dot(centre - middle) < 0) inward = -inward;
-        MatchMark mark;
-        mark.seam = static_cast<int>(s);
-        mark.side = side;
-        const double size = std::clamp(0.4 * length, 1.2, 3.0);
-        mark.notch_from = middle - inward * allowance;  // across the allowance to the cut line
-        mark.notch_to = middle + inward * 0.6 * size;
-        mark.label.text = layout.seam_labels.back();
-        mark.label.sheet = layout.pieces[side == 0 ? seam.piece_a : seam.piece_b].sheet;
-        mark.label.at = middle + inward * 1.3 * size;
-        mark.label.size = size;
-        double degrees = std::atan2(tangent.y(), tangent.x()) * 180.0 / M_PI;
-        if (degrees > 90.0) degrees -= 180.0;
-        if (degrees < -90.0) degrees += 180.0;
-        mark.label.angle = degrees;
-        layout.marks.push_back(mark);
-        break;
-      }
-    }
-  }
+  // Match marks: the same label on both sides of every seam.
+  for (size_t s = 0; s < unfolded.seams.size(); ++s) layout.seam_labels.push_back(std::to_string(s + 1));
+  for (size_t s = 0; s < unfolded.seams.size(); ++s) seam_marks(unfolded, triangles, s, space, layout);
   if (options.glue_tabs > 0.0) add_tabs(unfolded, triangles, options.glue_tabs, layout);
   return layout;
 }

@@ -51,8 +51,8 @@ struct PlacedPiece {
   // glue tabs: the outline with its tabs; else empty (the outline is cut).
   std::vector<Eigen::Vector2d> cut_line;
   bool cut_line_from_hull = false;
-  SheetLabel label;  // "A", "B", ... at the (sampled) face centre
-                     // farthest from the outline
+  SheetLabel label;  // "A", "B", ... at the (sampled) face centre farthest
+                     // from the outline, its box within that distance
 };
 
 // One side of a seam: a notch across the cut line at the seam's middle (with
@@ -81,6 +81,10 @@ struct Layout {
   std::vector<FoldLine> fold_lines;      // one per glue tab
   int glue_tabs = 0;                     // tabs placed
   int glue_tabs_dropped = 0;             // seams (each run of one) with a tab on neither side
+  // Per piece, per outline loop (the outer one first, then its holes): the
+  // outline as drawn on its sheet, mm (UnfoldPiece::outline_curve placed).
+  std::vector<std::vector<std::vector<Eigen::Vector2d>>> outlines;
+  int labels_left_out = 0;  // seam labels with no free room beside their notch (the notch stays)
 };
 
 // Packs the pieces of `unfolded` (from unfold() on this mesh's `triangles`).
@@ -88,7 +92,11 @@ struct Layout {
 // when only that fits), mirrored never (the sheet shows the side the face
 // normals point to), then placed by first-fit decreasing height on shelves,
 // so that the bounding boxes, hence the pieces (their cut lines with a seam
-// allowance or glue tabs), are at least `spacing` apart and inside the margins. Throws
+// allowance or glue tabs), are at least `spacing` apart and inside the margins.
+// No two labels' boxes (label_box, pattern_labels.h) overlap: a piece's
+// label lies inside it, scaled to fit; a seam's label goes beside its notch
+// where it is free, near the seam's middle, shrunk to half size at most, or
+// is left out (labels_left_out; the notch stays). Throws
 // EngineError(invalid_argument) for a non-positive or non-finite size, a
 // negative, non-finite or too wide seam allowance or glue tab, both of them, a
 // margin that leaves no room, or a piece
@@ -98,9 +106,9 @@ struct Layout {
 Layout layout_pattern(const UnfoldResult& unfolded, const Triangles& triangles, const LayoutOptions& options = {},
                       const Progress& progress = {});
 
-// Piece p's outline on its sheet (its one loop, since pieces are discs): the
-// layout's corners in the unfolding's outline order, mm.
-std::vector<Eigen::Vector2d> outline_on_sheet(const UnfoldResult& unfolded, const FlatCorners& sheet_corners, size_t p);
+// Loop `loop` of piece p's outline on its sheet (0: the outer one), mm, one
+// point per outline corner in the unfolding's order.
+std::vector<Eigen::Vector2d> outline_on_sheet(const Layout& layout, size_t p, size_t loop = 0);
 
 // "A" .. "Z", "AA", "AB", ... for piece index 0, 1, ...
 std::string piece_label(int index);

@@ -77,7 +77,13 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
   // (dashed) inside the cut lines, with glue tabs the pieces inside their
   // tabbed cut lines and the tabs' fold lines (dashed). What is cut outside
   // the outline is paler.
-  const auto outline_path = [&](size_t p) { return path_data(outline_on_sheet(unfolded, layout.corners, p), true); };
+  // Every loop of the piece: the holes cut out (even-odd fill).
+  const auto outline_path = [&](size_t p, size_t first_loop) {
+    std::string d;
+    for (size_t l = first_loop; l < layout.outlines[p].size(); ++l)
+      d += path_data(outline_on_sheet(layout, p, l), true);
+    return d;
+  };
   const bool allowance = o.seam_allowance > 0.0, tabs = o.glue_tabs > 0.0;
   out << "<g id=\"cut-lines\" fill=\"" << (allowance || tabs ? "#eef4fb" : "#dbe8f6")
       << "\" stroke=\"#000000\" stroke-width=\"0.2\" stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
@@ -85,7 +91,7 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
     if (layout.pieces[p].sheet != sheet) continue;
     out << "<path id=\"piece-" << escape(layout.pieces[p].label.text) << "\" d=\"";
     const auto& cut = layout.pieces[p].cut_line;
-    out << (cut.empty() ? outline_path(p) : path_data(cut, true)) << "\"/>\n";
+    out << (cut.empty() ? outline_path(p, 0) : path_data(cut, true) + outline_path(p, 1)) << "\"/>\n";
   }
   if (allowance || tabs) {
     out << "</g>\n<g id=\"" << (allowance ? "seam-lines" : "tabbed-pieces") << "\" fill=\"#dbe8f6\" "
@@ -93,7 +99,7 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
         << "stroke-linejoin=\"round\" fill-rule=\"evenodd\">\n";
     for (size_t p = 0; p < unfolded.pieces.size(); ++p)
       if (layout.pieces[p].sheet == sheet)
-        out << "<path id=\"seam-" << escape(layout.pieces[p].label.text) << "\" d=\"" << outline_path(p) << "\"/>\n";
+        out << "<path id=\"seam-" << escape(layout.pieces[p].label.text) << "\" d=\"" << outline_path(p, 0) << "\"/>\n";
   }
   if (tabs) {
     out << "</g>\n<g id=\"fold-lines\" fill=\"none\" stroke=\"#000000\" stroke-width=\"0.2\" "
@@ -112,7 +118,7 @@ std::string pattern_svg(const Layout& layout, const UnfoldResult& unfolded, int 
   for (const PlacedPiece& piece : layout.pieces)
     if (piece.sheet == sheet) text(out, piece.label, "#1f3a5f");
   for (const MatchMark& mark : layout.marks)
-    if (mark.label.sheet == sheet) text(out, mark.label, "#c0392b");
+    if (mark.label.sheet == sheet && !mark.label.text.empty()) text(out, mark.label, "#c0392b");
   out << "</g>\n";
 
   // Footer: a scale bar of a round length near 50 mm on paper.

@@ -142,6 +142,50 @@ std::vector<Vec2> offset_convex(const std::vector<Vec2>& hull, double distance, 
   return out;
 }
 
+// The pieces chained into loops: each piece is followed by the unused piece
+// that starts nearest to its end (the next one in order, or the one across a
+// gap the trimming closed). Returns the loop of largest area (the outer
+// one), its area, and whether every chain closed.
+std::vector<Vec2> outer_loop(const std::vector<Piece>& kept, double join, double* best_area, bool* closed_all) {
+  std::vector<char> used(kept.size(), 0);
+  std::vector<Vec2> best;
+  for (size_t first = 0; first < kept.size(); ++first) {
+    if (used[first]) continue;
+    std::vector<Vec2> chain;
+    size_t at = first;
+    used[at] = 1;
+    bool closed = false;
+    for (;;) {
+      chain.push_back(kept[at].from);
+      const Vec2& end = kept[at].to;
+      size_t next = kept.size();
+      double nearest = join;
+      for (size_t m = 1; m < kept.size(); ++m) {
+        const size_t k = (at + m) % kept.size();
+        if (used[k]) continue;
+        const double gap = (kept[k].from - end).norm();
+        if (gap <= nearest) next = k, nearest = gap;
+        if (gap == 0.0) break;  // the next piece untrimmed: nothing is nearer
+      }
+      const double home = (kept[first].from - end).norm();
+      if (home <= join && (next == kept.size() || home <= nearest)) {
+        closed = true;
+        break;
+      }
+      if (next == kept.size()) break;
+      used[next] = 1;
+      at = next;
+    }
+    if (!closed) {
+      *closed_all = false;
+      continue;
+    }
+    const double chain_area = signed_area(chain);
+    if (chain_area > *best_area) *best_area = chain_area, best = std::move(chain);
+  }
+  return best;
+}
+
 }  // namespace
 
 OffsetOutline offset_outline(const std::vector<Vec2>& outline, double distance, double tolerance) {
@@ -241,47 +285,9 @@ OffsetOutline offset_outline(const std::vector<Vec2>& outline, double distance, 
       keep(lo == 0.0 ? from : Vec2(from + lo * v), hi == 1.0 ? to : Vec2(from + hi * v));
   }
 
-  // Chained into loops: each piece is followed by the unused piece that
-  // starts nearest to its end (the next one in order, or the one across a
-  // gap the trimming closed); the outer loop has the largest area.
-  std::vector<char> used(kept.size(), 0);
-  std::vector<Vec2> best;
   double best_area = 0.0;
   bool closed_all = true;
-  for (size_t first = 0; first < kept.size(); ++first) {
-    if (used[first]) continue;
-    std::vector<Vec2> chain;
-    size_t at = first;
-    used[at] = 1;
-    bool closed = false;
-    for (;;) {
-      chain.push_back(kept[at].from);
-      const Vec2& end = kept[at].to;
-      size_t next = kept.size();
-      double nearest = join;
-      for (size_t m = 1; m < kept.size(); ++m) {
-        const size_t k = (at + m) % kept.size();
-        if (used[k]) continue;
-        const double gap = (kept[k].from - end).norm();
-        if (gap <= nearest) next = k, nearest = gap;
-        if (gap == 0.0) break;  // the next piece untrimmed: nothing is nearer
-      }
-      const double home = (kept[first].from - end).norm();
-      if (home <= join && (next == kept.size() || home <= nearest)) {
-        closed = true;
-        break;
-      }
-      if (next == kept.size()) break;
-      used[next] = 1;
-      at = next;
-    }
-    if (!closed) {
-      closed_all = false;
-      continue;
-    }
-    const double chain_area = signed_area(chain);
-    if (chain_area > best_area) best_area = chain_area, best = std::move(chain);
-  }
+  std::vector<Vec2> best = outer_loop(kept, join, &best_area, &closed_all);
   OffsetOutline result;
   result.from_hull = best.empty() || !closed_all || best_area < std::abs(area);
   result.points = result.from_hull ? offset_convex(convex_hull(loop), distance, sag) : std::move(best);

@@ -20,9 +20,14 @@ struct UnfoldOptions {
   // by less than arap_tolerance (relative) between rounds.
   int arap_iterations = 50;
   double arap_tolerance = 1e-6;
-  // Largest |l_flat / l_3d - 1| of an outline edge; a piece beyond it is split,
-  // so that the two sides of every seam keep their lengths within twice this.
-  // 0: no limit (a piece is split only when it overlaps itself).
+  // Strain (|l_flat / l_3d - 1|) a piece's flat map may keep: a piece that is
+  // not developable (some inner vertex with |angle defect| >= kFlatDefect,
+  // core/measures.h) is split while an edge strains beyond it, so that the
+  // two sides of every seam keep their lengths within twice this; a
+  // developable piece is kept whole while no edge strains beyond the larger
+  // of this and its inner vertices' sum of |defect| / (2 pi) (flatten.h,
+  // strain_limit). 0: no limit (a piece is split only when its flat map
+  // overlaps itself).
   double seam_tolerance = 0.0025;
 };
 
@@ -31,7 +36,7 @@ struct UnfoldPiece {
   int patch = 0;  // the patch the faces came from
   Eigen::Index faces = 0;
   int cut_edges = 0;         // edges cut inside the piece to make it a disc
-  int splits = 0;            // how often its patch was split because a flat map overlapped
+  int splits = 0;            // how often its patch was split to get here
   double max_strain = 0.0;   // largest |l_flat / l_3d - 1| over the piece's face edges
   double mean_strain = 0.0;  // mean of the same over the 3 edges of every face
   double area_3d = 0.0;      // model units squared
@@ -40,8 +45,13 @@ struct UnfoldPiece {
   double outline_length = 0.0;  // length of the flat outline, model units
   int arap_iterations = 0;      // rounds the refinement ran
   // The outline: closed loops of corner rows (3 f + k) in order, the piece on
-  // the left; one loop, since every piece is a disc.
+  // the left; the outer loop first, then one per hole (a piece is a disc
+  // with holes: the holes of a piece that lies flat with them are kept).
   std::vector<std::vector<Eigen::Index>> outline;
+  // The outline as drawn, model units in the piece's frame, one point per
+  // outline corner: the corners, except along a seam whose edges zigzag,
+  // where both of its sides follow the same smoothed curve.
+  std::vector<std::vector<Eigen::Vector2d>> outline_curve;
 };
 
 // A seam: a chain of mesh edges along which the pattern is cut, either a
@@ -63,7 +73,7 @@ struct UnfoldResult {
   Eigen::VectorXd face_strain;     // per face: largest |l_flat / l_3d - 1| of its edges
   std::vector<UnfoldPiece> pieces;
   std::vector<UnfoldSeam> seams;
-  int split_count = 0;  // pieces split because their flat map overlapped itself
+  int split_count = 0;  // pieces split because no flat map of theirs kept the rule
 };
 
 // Unfolds every patch.
@@ -74,28 +84,31 @@ struct UnfoldResult {
 //   face_groups: empty, or per face a group id (e.g. the polygon a triangle
 //     was cut from): faces of one group are never cut apart, nor split apart
 //     unless the group alone cannot lie flat.
-// Each piece is a connected set of faces of one patch. A piece that is not a
-// disc (a band, a closed tube, holes, handles) is first cut along short
-// interior edge paths: shortest paths join every further boundary loop to the
-// first one, a closed piece is opened along its longest shortest path, and
-// the remaining handles are cut along the short edges a maximum spanning tree
-// of the dual graph leaves. Each disc then gets a start: triangles laid down
-// breadth first by their edge lengths (greedy; kept when no edge is off by
-// more than 0.1 %, and final when none is off by more than 1e-9), else
-// least-squares conformal maps (two boundary vertices pinned) scaled to the
-// 3D area; then local/global as-rigid-as-possible rounds with the cotangent
-// Laplacian factored once (Eigen SimplicialLDLT). If the greedy start leads
-// nowhere valid, the conformal one is tried. A flat piece must have no
-// triangle of non-positive area, a flat angle sum of 2 pi at every interior
-// vertex, a simple outline and every outline edge within seam_tolerance; a
-// piece that fails is split in two across its
-// principal axis and each half is unfolded again, down to single triangles,
-// which always lie flat. Exact developables therefore come back isometric up
-// to rounding.
+// Each piece is a connected set of faces of one patch, laid flat
+// (flatten.h): a piece with holes is laid flat with them when that map does
+// not overlap itself, else cut into a disc along short interior edge paths
+// (every further boundary loop joined to the first, a closed piece opened
+// along its longest shortest path, handles cut along the short edges a
+// maximum spanning tree of the dual graph leaves). The map: triangles laid
+// down breadth first from a central face by their edge lengths (exact on a
+// developable disc), refined by as-rigid-as-possible rounds (the cotangent
+// Laplacian factored once), from least-squares conformal maps when that
+// start is far from isometric on a piece that is not developable or when it
+// leads nowhere valid. A flat map is kept when no triangle is turned, the
+// angles around every inner vertex sum to 2 pi, no two outline edges cross
+// and its strain keeps the rule of UnfoldOptions::seam_tolerance: so a
+// developable piece (every inner vertex flat) is one piece unless its flat
+// map overlaps itself. A piece that fails is split in two along a chord
+// (piece_split.h): the shortest edge path from its border through its inner
+// vertex of largest |defect| (if not flat; else through its middle) back
+// to its border, and each side is unfolded again, down to single triangles,
+// which always lie flat. Exact developables therefore come back isometric
+// up to rounding.
+// Progress: the share of the faces laid flat (within a large piece, between
+// refinement rounds and every 2^17 faces of the linear passes).
 // Throws EngineError(invalid_argument) for a patch_ids or face_groups of the wrong size or a
 // negative id, numerical_failure if a factorisation fails on every split,
-// cancelled when `progress` says stop (reported as the share of the faces laid
-// flat, between pieces).
+// cancelled when `progress` says stop.
 UnfoldResult unfold(const Positions& positions, const Triangles& triangles, const std::vector<int>& patch_ids,
                     const UnfoldOptions& options = {}, const std::vector<int>& face_groups = {},
                     const Progress& progress = {});

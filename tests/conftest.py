@@ -76,6 +76,45 @@ FIRST = (
 )  # rasterising the human figure's sheets
 
 
+# -- the quick tier --------------------------------------------------------------------
+# `bash scripts/test.sh --quick` (pytest -m "not slow") leaves out what takes minutes
+# on the 2-core machine and is covered in kind by a quicker test: the engine suite
+# again under ASan/UBSan and the fuzz run (their builds alone take minutes after a
+# change to native/), the two-million-face refusal, the held-out sweeps of the
+# families and closed objects, the human figure's rasterised sheets, the larger
+# meshes' least motion, and the add-on on the bpy wheels (4.2, 5.0: Blender 3.4
+# runs every add-on test). CI and scripts/test.sh run everything.
+SLOW = (
+    "test_hardening_sanitizers.py",
+    "test_hardening.py::test_two_million_faces_work_or_are_refused_cleanly",
+    "test_hardening.py::test_the_coupled_solver_is_refused_sooner",
+    "test_families.py",
+    "test_objects.py",
+    "test_assemblies_engine.py",
+    "test_pattern.py::test_rasterised_sheets_are_not_blank",
+    "test_segmentation.py::test_human_woman_is_made_piecewise_developable",
+    "test_segmentation.py::test_whole_objects_with_the_defaults_bend_without_crumpling",
+    "test_determinism.py::test_segmented_runs_repeat_bit_for_bit",
+    "test_engine.py::test_larger_meshes_have_least_motions_candidates",
+)
+WHEEL_BLENDERS = ("4.2", "5.0")
+
+
+def _slow(item):
+    """Whether the test belongs to the full suite only (SLOW, or an add-on test on a bpy wheel)."""
+    names = (item.path.name, "%s::%s" % (item.path.name, item.originalname))
+    if any(name in SLOW for name in names):
+        return True
+    callspec = getattr(item, "callspec", None)
+    if callspec is None:
+        return False
+    return any(str(value) in WHEEL_BLENDERS for name, value in callspec.params.items() if "blender" in name)
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow: full suite only, left out by scripts/test.sh --quick (conftest.SLOW)")
+
+
 def _group(item):
     """The xdist group of a test, or None (see above)."""
     module = item.nodeid.split("::")[0]
@@ -106,4 +145,6 @@ def pytest_collection_modifyitems(config, items):
         group = _group(item)
         if group:
             item.add_marker(pytest.mark.xdist_group(group))
+        if _slow(item):
+            item.add_marker(pytest.mark.slow)
     items.sort(key=_rank)  # stable: the others keep pytest's order

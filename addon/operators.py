@@ -251,7 +251,16 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
             target.unwelded = checks.unwelded_vertices(buffers.positions, on_boundary)
         positions, triangles, params = buffers.positions, buffers.triangles, engine_values(self)
         pins = pinned if pinned.any() else None
-        return Job(lambda progress: native.run(positions, triangles, pins, params, progress), data=buffers)
+
+        def work(progress):
+            # The engine runs a one-sided or inconsistently wound mesh on faces turned to agree; its
+            # input check says so, and the user is told (the faces themselves are left as they are).
+            status, message = native.validate(positions, triangles)
+            if status == native.STATUS_OK and message.startswith("ok: "):
+                buffers.orientation_note = message[len("ok: ") :]
+            return native.run(positions, triangles, pins, params, progress)
+
+        return Job(work, data=buffers)
 
     # -- finishing ----------------------------------------------------------
     def _figures(self, target, buffers):
@@ -371,6 +380,8 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
         )
         v = verdicts.verdict(obj.name, s, facts)
         notes, level = [], {v.level}
+        if buffers.orientation_note:
+            notes.append(buffers.orientation_note[0].upper() + buffers.orientation_note[1:] + ".")
         if target.dropped:
             notes.append(
                 "(%s lying on another face ignored, as Blender's Validate does)"

@@ -58,16 +58,14 @@ def test_a_triangle_lying_on_a_quad_is_dropped_and_identical_faces_are_kept(seed
     assert checks.duplicate_polygons(t3, p3)[0] == (len(quads), q)
 
 
-def test_bad_edges_find_every_fin_and_every_flipped_neighbour():
+def test_non_manifold_edges_are_the_fins_and_a_flipped_face_is_none():
     p, quads, tris, poly = grid()
     fins = [(7, 8), (13, 14)]
     extra = [(a, b, len(p) + i) for i, (a, b) in enumerate(fins)]
-    many, flipped = checks.bad_edges(np.vstack([tris, extra]))
-    assert sorted(map(tuple, many)) == fins and len(flipped) == 0
+    assert sorted(map(tuple, checks.non_manifold_edges(np.vstack([tris, extra])))) == fins
     t = tris.copy()
-    t[3] = t[3][::-1]
-    many, flipped = checks.bad_edges(t)
-    assert len(many) == 0 and len(flipped) == 3  # the flipped triangle's three edges
+    t[3] = t[3][::-1]  # the engine turns it (core/orientation.h): nothing to refuse
+    assert len(checks.non_manifold_edges(t)) == 0
 
 
 def test_degenerate_triangles_are_those_the_engine_refuses():
@@ -76,38 +74,6 @@ def test_degenerate_triangles_are_those_the_engine_refuses():
     t = np.vstack([tris, [len(p) - 3, len(p) - 2, len(p) - 1], [0, 0, 1]])
     bad = checks.degenerate_triangles(p, t)
     assert list(np.nonzero(bad)[0]) == [len(tris), len(tris) + 1]
-
-
-@pytest.mark.parametrize("around, across", [(48, 6), (31, 3), (64, 9)])
-def test_a_moebius_strip_is_one_sided_and_a_flipped_face_is_not(around, across):
-    v, faces = shapes.moebius(around, across)
-    tris, _ = shapes.triangulate(faces)
-    assert checks.one_sided_triangles(tris).all()
-    # a band (the strip without its twist) with one face flipped: orientable
-    band, band_faces = shapes.duct(around=around, rings=across)
-    t, _ = shapes.triangulate(band_faces)
-    t[5] = t[5][::-1]
-    assert not checks.one_sided_triangles(t).any()
-    assert len(checks.bad_edges(t)[1]) == 3
-    # both in one mesh: only the strip's triangles are one-sided
-    both = np.vstack([tris, t + len(v)])
-    mask = checks.one_sided_triangles(both)
-    assert mask[: len(tris)].all() and not mask[len(tris) :].any()
-
-
-def test_advice_for_a_one_sided_strip_is_not_recalculate_outside():
-    v, faces = shapes.moebius()
-    tris, owner = shapes.triangulate(faces)
-    selection, words = checks.describe_problem("strip", "unfold strip", 6, "NON_MANIFOLD", "", v, tris, owner)
-    assert "one-sided" in words and "Recalculate Outside makes it worse" in words and "Edge Split" in words
-    vertices, edges, _ = selection
-    assert len(edges) > 0  # the edges where its faces meet back to back, to be selected
-    # an orientable sheet with one face turned: Recalculate Outside is the fix
-    p, quads, t, poly = grid()
-    t = t.copy()
-    t[3] = t[3][::-1]
-    _, words = checks.describe_problem("sheet", "make sheet developable", 6, "NON_MANIFOLD", "", p, t, poly)
-    assert "Recalculate Outside fixes it" in words and "one-sided" not in words
 
 
 def test_engine_triangle_numbers_become_blender_faces():

@@ -138,22 +138,11 @@ def test_a_result_left_at_0_shows_the_colours_of_the_shape_on_screen(workflows):
 # -- 4. One-sided sheets --------------------------------------------------------------------------
 
 
-def test_a_moebius_strip_gets_advice_for_a_one_sided_surface(workflows):
-    r = scenario(workflows, "moebius")[0]
-    result, error = r["run"]
-    if result == ["FINISHED"]:  # the engine accepts one-sided meshes
-        return
-    assert "one-sided" in error and "Recalculate Outside fixes" not in error, error
-    assert r["mode"] == "EDIT" and r["selected_edges"] > 0
-    unfolded, unfold_error = r["unfold"]
-    assert unfolded == ["CANCELLED"] and "one-sided" in unfold_error and "triangle" not in unfold_error
-    assert r["unfold_mode"] == "EDIT"
-
-
-@pytest.mark.xfail(strict=False, reason="the engine refuses one-sided meshes until the onesided branch lands")
-def test_a_moebius_strip_runs_and_unfolds_with_one_cut(workflows):
+def test_a_moebius_strip_runs_says_it_is_one_sided_and_unfolds_with_one_cut(workflows):
     r = scenario(workflows, "moebius")[0]
     assert r["run"][0] == ["FINISHED"], r["run"][1]
+    message = r["message"]
+    assert "one-sided" in message and "Recalculate Outside" not in message, message
     assert r["unfold"][0] == ["FINISHED"], r["unfold"][1]
     assert r["pattern"]["pieces"] == 1 and r["pattern"]["seams"] > 0
 
@@ -178,7 +167,9 @@ def test_a_crumpled_result_says_so_and_offers_the_better_job(workflows):
     assert "Angle polish: Off" in noisy["message"]
     assert noisy["crumpled_after"] > 0.1 * noisy["flat_after"]
     smooth = r["noisy_no_polish"]  # the advice taken: smooth bends, no facets
-    assert smooth["verdict"] != "CRUMPLED" and smooth["ruled_after"] > noisy["ruled_after"], smooth["message"]
+    # fewer facets: the crumpled share at most half, the figures of both in the report
+    assert smooth["verdict"] != "CRUMPLED", smooth["message"]
+    assert smooth["crumpled_after"] < 0.5 * noisy["crumpled_after"], (smooth["message"], noisy["message"])
     sheet = r["noisy_sheet"]
     assert "Clean up a scanned sheet" not in sheet["message"]  # never the job that ran
 

@@ -183,7 +183,6 @@ BAD = {
     "zero area": (case_zero_area, {}, "DEGENERATE_TRIANGLE", "zero area"),
     "duplicate face": (case_duplicate_face, {}, "DUPLICATE_TRIANGLE", "repeats the vertices"),
     "non-manifold vertex": (case_bowtie, {}, "NON_MANIFOLD", "vertex 0 is non-manifold"),
-    "flipped face": (case_flipped_face, {}, "NON_MANIFOLD", "inconsistent orientation"),
     "polygon soup": (case_soup, {}, "NO_INTERIOR_VERTEX", "Merge by Distance"),
     "every vertex pinned": (half_cylinder, {"pin_group": "all"}, "NO_FREE_VERTEX", "pinned"),
     "memory budget": (half_cylinder, {}, "OUT_OF_MEMORY", "memory budget"),
@@ -241,6 +240,15 @@ def s_good():
     move = np.linalg.norm(k - base, axis=1)
     out["components"] = {"result": res, "error": err, "finite": bool(np.isfinite(k).all()),
                          "moved": [float(move[:n1].max()), float(move[n1:].max())]}
+    # one face wound the other way: run as if wound consistently, the faces left as they are
+    ob = case_flipped_face()
+    faces_before = [tuple(p.vertices) for p in ob.data.polygons]
+    base = sc.coords(ob.data).copy()
+    res, err = sc.run_op()
+    out["flipped"] = {"result": res, "message": err or ob.developable.message,
+                      "faces_kept": faces_before == [tuple(p.vertices) for p in ob.data.polygons],
+                      "base_kept": bool(np.array_equal(sc.coords(ob.data), base)),
+                      "moved": float(np.abs(sc.key_coords(ob) - base).max())}
     # loose vertices and edges: kept exactly
     ob = case_loose()
     base = sc.coords(ob.data).copy()
@@ -379,7 +387,6 @@ BAD_CASES = [
     "zero area",
     "duplicate face",
     "non-manifold vertex",
-    "flipped face",
     "polygon soup",
     "every vertex pinned",
     "memory budget",
@@ -410,6 +417,13 @@ def test_bad_mesh_is_reported_and_the_object_untouched(bad, case):
 @pytest.fixture(scope="module")
 def good(background):
     return background["good"]
+
+
+def test_a_face_wound_the_other_way_is_run_as_wound_consistently_and_said(good):
+    r = good["flipped"]
+    assert r["result"] == ["FINISHED"], r["message"]
+    assert "wound the other way round" in r["message"], r["message"]
+    assert r["faces_kept"] and r["base_kept"] and r["moved"] > 1e-4, r
 
 
 def test_several_components_are_all_processed(good):

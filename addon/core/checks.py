@@ -64,21 +64,15 @@ def drop_shared_triangles(triangles, tri_polygon, polygon_vertex_sets):
     )
 
 
-def bad_edges(triangles):
-    """(edges shared by more than two triangles (k, 2), edges used twice in the
-    same direction by two triangles: neighbours that disagree on orientation)."""
+def non_manifold_edges(triangles):
+    """The edges shared by more than two triangles, (k, 2) sorted vertex pairs.
+    (Neighbours that disagree on orientation are no refusal: the engine turns
+    faces to agree, core/orientation.h.)"""
     a, b, _ = _edge_table(triangles)
     if a.size == 0:
-        return np.zeros((0, 2), np.int64), np.zeros((0, 2), np.int64)
-    und = np.sort(np.stack([a, b], axis=1), axis=1)
-    uniq, count = np.unique(und, axis=0, return_counts=True)
-    many = uniq[count > 2]
-    directed, dcount = np.unique(np.stack([a, b], axis=1), axis=0, return_counts=True)
-    same_dir = np.sort(directed[dcount > 1], axis=1)
-    if len(many) and len(same_dir):
-        n = int(max(und.max(), 0)) + 1
-        same_dir = same_dir[~np.isin(same_dir[:, 0] * n + same_dir[:, 1], many[:, 0] * n + many[:, 1])]
-    return many, np.unique(same_dir, axis=0) if len(same_dir) else same_dir
+        return np.zeros((0, 2), np.int64)
+    uniq, count = np.unique(np.sort(np.stack([a, b], axis=1), axis=1), axis=0, return_counts=True)
+    return uniq[count > 2]
 
 
 def _manifold_pairs(triangles):
@@ -99,51 +93,6 @@ def _manifold_pairs(triangles):
     first = np.nonzero(start)[0]
     two = first[count == 2]
     return face[two], face[two + 1], forward[two] != forward[two + 1], np.stack([lo[two], hi[two]], axis=1)
-
-
-def one_sided_triangles(triangles):
-    """Mask of the triangles in one-sided parts of the mesh (a Moebius strip):
-    connected pieces (across edges shared by two triangles) whose triangles
-    cannot all be turned to face one way. Recalculate Outside cannot orient
-    such a piece; it is not a wrong setting but the shape itself.
-
-    A breadth-first walk gives every triangle a side; a pair across an edge
-    that disagrees with the sides given marks its piece one-sided. The walk
-    advances one ring of neighbours per round, in numpy."""
-    t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-    n = len(t)
-    f, g, alike, _ = _manifold_pairs(t)
-    if n == 0:
-        return np.zeros(0, dtype=bool)
-    # symmetric adjacency in CSR form: flip = 0 when the neighbour faces the same way
-    src = np.concatenate([f, g])
-    dst = np.concatenate([g, f])
-    flip = np.concatenate([~alike, ~alike]).astype(np.int8)
-    order = np.argsort(src, kind="stable")
-    src, dst, flip = src[order], dst[order], flip[order]
-    offsets = np.searchsorted(src, np.arange(n + 1))
-    side = np.full(n, -1, dtype=np.int8)
-    component = np.full(n, -1, dtype=np.int64)
-    next_component = 0
-    for seed in range(n):
-        if side[seed] >= 0:
-            continue
-        side[seed], component[seed] = 0, next_component
-        frontier = np.array([seed])
-        while frontier.size:
-            counts = offsets[frontier + 1] - offsets[frontier]
-            rows = np.repeat(offsets[frontier], counts) + (
-                np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-            )
-            to, want = dst[rows], np.repeat(side[frontier], counts) ^ flip[rows]
-            fresh = side[to] < 0
-            to, want = to[fresh], want[fresh]
-            to, first = np.unique(to, return_index=True)
-            side[to], component[to] = want[first], next_component
-            frontier = to
-        next_component += 1
-    bad = (side[f] ^ side[g]) != (~alike).astype(np.int8)
-    return np.isin(component, np.unique(component[f[bad]]))
 
 
 def degenerate_triangles(positions, triangles):
@@ -325,27 +274,12 @@ def describe_problem(name, verb, status, status_name, message, world, triangles,
     head = "Cannot %s (%s): " % (verb, status_name)
     tail = " Selected in Edit mode"
     if status == NON_MANIFOLD:
-        many, flipped = bad_edges(tris)
+        many = non_manifold_edges(tris)
         if len(many):
             return (many.reshape(-1), many, ()), head + (
                 "%s shared by more than two faces (a non-manifold edge), %s.%s; "
                 "Select > Select All by Trait > Non Manifold shows them all."
                 % (plural(len(many), "edge is", "edges are"), _where(world, many[0]), tail)
-            )
-        if len(flipped):
-            one_sided = one_sided_triangles(tris)
-            if one_sided.any():
-                return (flipped.reshape(-1), flipped, ()), head + (
-                    "%s is one-sided, like a Moebius strip: its faces cannot all be turned to face one "
-                    "way, and this engine needs two sides. No normals setting changes that "
-                    "(Recalculate Outside makes it worse); cut it across where its faces meet back to "
-                    "back (%s, %s) to make it two-sided.%s; Edge > Edge Split on them cuts it."
-                    % (name, plural(len(flipped), "edge", "edges"), _where(world, flipped[0]), tail)
-                )
-            return (flipped.reshape(-1), flipped, ()), head + (
-                "%s between faces of opposite direction (inconsistent orientation), %s.%s; "
-                "Mesh > Normals > Recalculate Outside fixes it."
-                % (plural(len(flipped), "edge lies", "edges lie"), _where(world, flipped[0]), tail)
             )
         vertex = re.search(r"vertex (\d+) is non-manifold", message)
         if vertex:

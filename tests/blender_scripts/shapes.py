@@ -20,6 +20,15 @@ def plate(nu=12, nv=8, size=(1.0, 0.6)):
     return v, _grid_faces(nu, nv)
 
 
+def fin(nu=12, nv=8):
+    """A plate with a fin: a triangle standing on an inner edge, which three faces
+    then share (a non-manifold edge, refused)."""
+    v, faces = plate(nu, nv)
+    a, b = nv + 2, nv + 3  # an inner edge along the plate's second row
+    v = np.vstack([v, (v[a] + v[b]) / 2 + [0, 0, 0.2]])
+    return v, faces + [(a, b, len(v) - 1)]
+
+
 def moebius(around=48, across=6, radius=1.0, width=0.4):
     """A Moebius strip of quads: a paper strip given half a twist, one-sided.
     The last column of quads joins the first with the strip turned over."""

@@ -198,25 +198,14 @@ def s_moebius(out):
     u.clear()
     ob = make("strip", *shapes.moebius())
     run_result = run()
-    mode = ob.mode
-    if ob.mode != "OBJECT":
-        bpy.ops.object.mode_set(mode="OBJECT")
-    selected = int(sum(e.select for e in ob.data.edges))
     rec = ob.developable
-    verdict = rec.verdict if rec.has_result else ""
     only(ob)
     unfolded = unfold(filepath=os.path.join(out, "strip.svg"))
-    unfold_mode = ob.mode
-    if ob.mode != "OBJECT":
-        bpy.ops.object.mode_set(mode="OBJECT")
     emit(
         {
             "run": run_result,
-            "mode": mode,
-            "selected_edges": selected,
-            "verdict": verdict,
+            "message": rec.message if rec.has_result else "",
             "unfold": unfolded,
-            "unfold_mode": unfold_mode,
             "pattern": written(ob),
         }
     )
@@ -523,7 +512,7 @@ def _panel_states():
     ob = make("large", v, f)
     yield "large", ob
     u.clear()
-    ob = make("strip", *shapes.moebius())
+    ob = make("fin", *shapes.fin())
     run()
     if ob.mode != "OBJECT":
         bpy.ops.object.mode_set(mode="OBJECT")

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace developable {
 namespace {
@@ -134,6 +135,102 @@ class DefectJacobian {
   RowMatrix jacobian_;
 };
 
+// J J^T of a DefectJacobian, its pattern found once: entry (i, j) is the sum
+// over the free vertices u that the closed stars of rows i and j share, in
+// ascending order, of the three products J(i, 3u + c) J(j, 3u + c), c = 0, 1,
+// 2. That is the order and the arithmetic of Eigen's sparse product J *
+// J.transpose(), so the values are the same bit for bit; assembled from
+// precomputed positions, without the product's transposed copies, sorting
+// and allocations (a sixth of a 50k-face run went to them).
+class NormalMatrix {
+ public:
+  explicit NormalMatrix(const RowMatrix& jacobian) {
+    const Eigen::Index rows = jacobian.rows(), columns = jacobian.cols();
+    // The rows each free vertex's three columns appear in, ascending, with
+    // the position of its first column's value in J.
+    std::vector<int> count(static_cast<size_t>(columns / 3) + 1, 0);
+    for (Eigen::Index r = 0; r < rows; ++r)
+      for (int k = jacobian.outerIndexPtr()[r]; k < jacobian.outerIndexPtr()[r + 1]; k += 3)
+        ++count[static_cast<size_t>(jacobian.innerIndexPtr()[k] / 3) + 1];
+    for (size_t u = 1; u < count.size(); ++u) count[u] += count[u - 1];
+    vertex_start_ = count;
+    row_at_.resize(static_cast<size_t>(count.back()));
+    value_at_.resize(static_cast<size_t>(count.back()));
+    for (Eigen::Index r = 0; r < rows; ++r)
+      for (int k = jacobian.outerIndexPtr()[r]; k < jacobian.outerIndexPtr()[r + 1]; k += 3) {
+        const auto slot = static_cast<size_t>(count[static_cast<size_t>(jacobian.innerIndexPtr()[k] / 3)]++);
+        row_at_[slot] = static_cast<int>(r);
+        value_at_[slot] = k;
+      }
+    // The pattern: (i, j) wherever rows i and j share a free vertex.
+    std::vector<std::vector<int>> neighbours(static_cast<size_t>(rows));
+    for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
+      for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a)
+        for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b)
+          neighbours[static_cast<size_t>(row_at_[static_cast<size_t>(a)])].push_back(row_at_[static_cast<size_t>(b)]);
+    Eigen::VectorXi sizes(rows);
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      auto& list = neighbours[static_cast<size_t>(r)];
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+      sizes[r] = static_cast<int>(list.size());
+    }
+    matrix_.resize(rows, rows);
+    matrix_.reserve(sizes);
+    for (Eigen::Index r = 0; r < rows; ++r)
+      for (int c : neighbours[static_cast<size_t>(r)]) matrix_.insert(c, r) = 0.0;
+    matrix_.makeCompressed();
+    // Where each product of a shared vertex goes, in the order of the sums.
+    for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
+      for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a)
+        for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b)
+          target_.push_back(position(row_at_[static_cast<size_t>(a)], row_at_[static_cast<size_t>(b)]));
+    diagonal_.resize(static_cast<size_t>(rows));
+    for (Eigen::Index r = 0; r < rows; ++r) diagonal_[static_cast<size_t>(r)] = position(r, r);
+  }
+
+  // J J^T + mu m I at J's values, m the mean of J J^T's diagonal; false
+  // (the values undefined) when m is not a positive number.
+  bool assemble(const RowMatrix& jacobian, double mu) {
+    double* values = matrix_.valuePtr();
+    // -0 + x is x for every x, so each sum starts as the product's first term.
+    std::fill(values, values + matrix_.nonZeros(), -0.0);
+    const double* j = jacobian.valuePtr();
+    size_t t = 0;
+    for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
+      for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a) {
+        const double* x = j + value_at_[static_cast<size_t>(a)];
+        for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b, ++t) {
+          const double* y = j + value_at_[static_cast<size_t>(b)];
+          double& sum = values[target_[t]];
+          sum += x[0] * y[0];
+          sum += x[1] * y[1];
+          sum += x[2] * y[2];
+        }
+      }
+    const double scale = matrix_.diagonal().mean();
+    if (!(scale > 0.0) || !std::isfinite(scale)) return false;
+    for (const Eigen::Index d : diagonal_) values[d] += mu * scale;
+    return true;
+  }
+
+  const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
+
+ private:
+  Eigen::Index position(Eigen::Index row, Eigen::Index column) const {
+    const int* begin = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[column];
+    const int* end = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[column + 1];
+    return std::lower_bound(begin, end, static_cast<int>(row)) - matrix_.innerIndexPtr();
+  }
+
+  std::vector<int> vertex_start_;  // free vertex -> its first entry in row_at_ / value_at_
+  std::vector<int> row_at_;        // the rows holding the vertex, ascending
+  std::vector<int> value_at_;      // the position of J(row, 3u) in J's values
+  std::vector<Eigen::Index> target_;
+  std::vector<Eigen::Index> diagonal_;
+  Eigen::SparseMatrix<double> matrix_;
+};
+
 // The damped system (J J^T + damping) y = K. Up to `direct_rows` rows, a
 // sparse Cholesky factorisation (exact steps, few iterations); above, J J^T
 // couples each vertex to its two rings and the factor fills in (50k rows:
@@ -145,31 +242,32 @@ class DampedSystem {
  public:
   explicit DampedSystem(Eigen::Index direct_rows) : direct_rows_(direct_rows) {}
 
-  // Factors (or prepares) `matrix`, kept by the system; false on failure.
-  bool compute(Eigen::SparseMatrix<double> matrix) {
-    matrix_ = std::move(matrix);
-    if (matrix_.rows() <= direct_rows_) {
+  // Factors (or prepares) `matrix`, which must outlive the system and keep
+  // its values until the next compute; false on failure.
+  bool compute(const Eigen::SparseMatrix<double>& matrix) {
+    rows_ = matrix.rows();
+    if (rows_ <= direct_rows_) {
       if (!analysed_) {
-        direct_.analyzePattern(matrix_);
+        direct_.analyzePattern(matrix);
         analysed_ = true;
       }
-      direct_.factorize(matrix_);
+      direct_.factorize(matrix);
       return direct_.info() == Eigen::Success;
     }
     iterative_.setMaxIterations(kIterativeSteps);
     iterative_.setTolerance(kIterativeTolerance);
-    iterative_.compute(matrix_);
+    iterative_.compute(matrix);
     return iterative_.info() == Eigen::Success;
   }
 
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
-    if (matrix_.rows() <= direct_rows_) return direct_.solve(rhs);
+    if (rows_ <= direct_rows_) return direct_.solve(rhs);
     return iterative_.solve(rhs);
   }
 
  private:
   Eigen::Index direct_rows_;
-  Eigen::SparseMatrix<double> matrix_;  // the iterative solver reads it at every solve
+  Eigen::Index rows_ = 0;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> direct_;
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> iterative_;
   bool analysed_ = false;
@@ -232,83 +330,125 @@ struct GiveUp {
 
 // The polish of `region` on the mesh it was read off: the Levenberg-Marquardt
 // iterations of polish_defects (their contract), from `start` with its
-// `defects` (read at the rows only), giving up past `give_up`'s bound.
-PolishResult polish_region(const Positions& start, const Positions& reference, const Normals& reference_normals,
-                           const Triangles& triangles, const Region& region, Eigen::VectorXd defects,
-                           const PolishOptions& options, const GiveUp& give_up, const Progress& progress) {
-  const Eigen::Index n = start.rows();
-  PolishResult result;
-  result.positions = start;
-  std::vector<int> free_of(static_cast<size_t>(n), -1);
-  Eigen::Index free_count = 0;
-  for (Eigen::Index v = 0; v < n; ++v)
-    if (region.moves[static_cast<size_t>(v)]) free_of[static_cast<size_t>(v)] = static_cast<int>(free_count++);
-  std::vector<int> row_of(static_cast<size_t>(n), -1);
-  Eigen::Index rows = 0;
-  for (Eigen::Index v = 0; v < n; ++v)
-    if (region.rows[static_cast<size_t>(v)]) row_of[static_cast<size_t>(v)] = static_cast<int>(rows++);
-  if (rows == 0 || free_count == 0) return result;
+// `defects` (read at the rows only), giving up past `give_up`'s bound. One
+// method per step of an iteration.
+class RegionPolish {
+ public:
+  RegionPolish(const Positions& start, const Positions& reference, const Normals& reference_normals,
+               const Triangles& triangles, const Region& region, const PolishOptions& options, const GiveUp& give_up,
+               const Progress& progress)
+      : reference_(reference),
+        reference_normals_(reference_normals),
+        triangles_(triangles),
+        region_(region),
+        options_(options),
+        give_up_(give_up),
+        progress_(progress),
+        n_(start.rows()),
+        free_of_(static_cast<size_t>(n_), -1),
+        row_of_(static_cast<size_t>(n_), -1),
+        crease_guard_(triangles, reference_normals, options.crease_groups, options.crease_growth),
+        system_(options.direct_rows),
+        current_(start) {
+    for (Eigen::Index v = 0; v < n_; ++v)
+      if (region.moves[static_cast<size_t>(v)]) free_of_[static_cast<size_t>(v)] = static_cast<int>(free_count_++);
+    for (Eigen::Index v = 0; v < n_; ++v)
+      if (region.rows[static_cast<size_t>(v)]) row_of_[static_cast<size_t>(v)] = static_cast<int>(rows_++);
+    result_.positions = start;
+  }
 
-  DefectJacobian jacobian(triangles, row_of, free_of, rows, free_count);
-  const CreaseGuard crease_guard(triangles, reference_normals, options.crease_groups, options.crease_growth);
-  Eigen::VectorXd residual = jacobian.evaluate(start, defects);
-  result.residual_before = std::sqrt(residual.squaredNorm() / static_cast<double>(rows));
-  result.residual_after = result.residual_before;
-  auto residual_at = [&](const Eigen::VectorXd& d) {
-    Eigen::VectorXd r(rows);
-    for (Eigen::Index v = 0; v < n; ++v)
-      if (row_of[static_cast<size_t>(v)] >= 0) r[row_of[static_cast<size_t>(v)]] = d[v];
-    return r;
-  };
+  PolishResult run(Eigen::VectorXd defects);
 
+ private:
+  bool factor(double mu);
+  Positions moved(const Eigen::VectorXd& step, double length) const;
+  bool unfold(Positions& trial) const {
+    return put_back_folded_corners(trial, current_, triangles_, reference_normals_, crease_guard_, kRevertRounds);
+  }
+  Eigen::VectorXd residual_at(const Eigen::VectorXd& defects) const;
+  void pull();
+  bool descend();
+  bool try_lengths(const Eigen::VectorXd& step);
+  void take_trial();
+  bool gives_up();
+  bool stalls();
+
+  const Positions& reference_;
+  const Normals& reference_normals_;
+  const Triangles& triangles_;
+  const Region& region_;
+  const PolishOptions& options_;
+  const GiveUp& give_up_;
+  const Progress& progress_;
+  const Eigen::Index n_;
+  std::vector<int> free_of_;  // vertex -> its free number, or -1
+  std::vector<int> row_of_;   // vertex -> its row, or -1
+  Eigen::Index free_count_ = 0;
+  Eigen::Index rows_ = 0;
+  const CreaseGuard crease_guard_;
+  std::optional<DefectJacobian> jacobian_;
+  std::optional<NormalMatrix> normal_;
+  DampedSystem system_;
+  PolishResult result_;
+
+  // The iterate and its defects (at the rows), K and sum K^2.
+  Positions current_;
+  Eigen::VectorXd defects_;
+  Eigen::VectorXd residual_;
+  double energy_ = 0.0;
+  // The trial step last kept by try_lengths, its defects and sum K^2.
+  Positions trial_;
+  Eigen::VectorXd trial_defects_;
+  double trial_energy_ = 0.0;
   // J J^T + damping is factored at one iterate and reused while its steps
   // keep lowering sum K^2 well (the vertices move little, so J changes
   // little); it is refactored at the current iterate when a step gains
   // little, and with more damping when even a fresh factor's steps fail.
-  DampedSystem system(options.direct_rows);
-  bool fresh = false;
   // The spreading damping holds until every |K| is below spread_until.
-  double least_damping = std::max(kSmallestDamping, options.spread_damping);
-  double damping = std::max(kInitialDamping, least_damping);
-  // Factors J J^T + mu (relative to its mean diagonal) at the current J.
-  auto factor = [&](double mu) {
-    const RowMatrix& J = jacobian.matrix();
-    Eigen::SparseMatrix<double> normal = J * J.transpose();
-    const double scale = normal.diagonal().mean();
-    if (!(scale > 0.0) || !std::isfinite(scale)) return false;
-    for (Eigen::Index r = 0; r < rows; ++r) normal.coeffRef(r, r) += mu * scale;
-    fresh = true;
-    return system.compute(std::move(normal));
-  };
-  Positions current = start;
-  // `current` moved by `length` times `step` (free vertices' coordinates),
-  // each vertex then put back within `options.limit` of its reference.
-  const auto moved = [&](const Eigen::VectorXd& step, double length) {
-    Positions trial = current;
-    for (Eigen::Index v = 0; v < n; ++v) {
-      const int u = free_of[static_cast<size_t>(v)];
-      if (u < 0) continue;
-      trial.row(v) += length * step.segment<3>(3 * u).transpose();
-      trial.row(v) = within_limit(trial.row(v), reference.row(v), options.limit);
-    }
-    return trial;
-  };
-  // Faces near 90 degrees from their reference turn over at any step length
-  // (human_woman), and faces a step would crease (the crease guard): their
-  // corners keep their place instead, ring by ring. False if faces still
-  // turn over after kRevertRounds rounds.
-  const auto unfold = [&](Positions& trial) {
-    return put_back_folded_corners(trial, current, triangles, reference_normals, crease_guard, kRevertRounds);
-  };
-  // The projection's steps (PolishOptions::pull_steps).
-  for (int pull = 0; pull < options.pull_steps; ++pull) {
+  double least_damping_ = 0.0;
+  double damping_ = 0.0;
+  bool factored_ = false;
+  bool fresh_ = false;
+  std::vector<std::pair<double, Eigen::Index>> history_;  // (sum K^2, flat rows) after each kept step
+};
+
+// Factors J J^T + mu (relative to its mean diagonal) at the current J.
+bool RegionPolish::factor(double mu) {
+  if (!normal_->assemble(jacobian_->matrix(), mu)) return false;
+  fresh_ = true;
+  return system_.compute(normal_->matrix());
+}
+
+// `current_` moved by `length` times `step` (free vertices' coordinates),
+// each vertex then put back within `options.limit` of its reference.
+Positions RegionPolish::moved(const Eigen::VectorXd& step, double length) const {
+  Positions trial = current_;
+  for (Eigen::Index v = 0; v < n_; ++v) {
+    const int u = free_of_[static_cast<size_t>(v)];
+    if (u < 0) continue;
+    trial.row(v) += length * step.segment<3>(3 * u).transpose();
+    trial.row(v) = within_limit(trial.row(v), reference_.row(v), options_.limit);
+  }
+  return trial;
+}
+
+Eigen::VectorXd RegionPolish::residual_at(const Eigen::VectorXd& defects) const {
+  Eigen::VectorXd r(rows_);
+  for (Eigen::Index v = 0; v < n_; ++v)
+    if (row_of_[static_cast<size_t>(v)] >= 0) r[row_of_[static_cast<size_t>(v)]] = defects[v];
+  return r;
+}
+
+// The projection's steps (PolishOptions::pull_steps).
+void RegionPolish::pull() {
+  const RowMatrix& J = jacobian_->matrix();
+  for (int pull = 0; pull < options_.pull_steps; ++pull) {
     if (!factor(kPullDamping)) break;
-    Eigen::VectorXd toward(3 * free_count);
-    for (Eigen::Index v = 0; v < n; ++v)
-      if (const int u = free_of[static_cast<size_t>(v)]; u >= 0)
-        toward.segment<3>(3 * u) = (reference.row(v) - current.row(v)).transpose();
-    const Eigen::VectorXd step =
-        toward - jacobian.matrix().transpose() * system.solve(residual + jacobian.matrix() * toward);
+    Eigen::VectorXd toward(3 * free_count_);
+    for (Eigen::Index v = 0; v < n_; ++v)
+      if (const int u = free_of_[static_cast<size_t>(v)]; u >= 0)
+        toward.segment<3>(3 * u) = (reference_.row(v) - current_.row(v)).transpose();
+    const Eigen::VectorXd step = toward - J.transpose() * system_.solve(residual_ + J * toward);
     if (!step.allFinite()) break;
     Positions trial;
     bool kept = false;
@@ -317,73 +457,118 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
       kept = unfold(trial);
     }
     if (!kept) break;
-    current = std::move(trial);
-    defects = angle_defects(current, triangles, region.rows);
-    residual = jacobian.evaluate(current, defects);
-    ++result.iterations;
+    current_ = std::move(trial);
+    defects_ = angle_defects(current_, triangles_, region_.rows);
+    residual_ = jacobian_->evaluate(current_, defects_);
+    ++result_.iterations;
   }
-  double energy = residual.squaredNorm();
-  bool factored = false;
-  std::vector<std::pair<double, Eigen::Index>> history;  // (sum K^2, flat rows) after each kept step
-  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
-    if (residual.lpNorm<Eigen::Infinity>() < options.target_defect) break;
-    if (least_damping > kSmallestDamping && residual.lpNorm<Eigen::Infinity>() < options.spread_until) {
-      least_damping = kSmallestDamping;
-      damping = kInitialDamping;
-      factored = false;
-    }
-    progress.report(static_cast<double>(iteration) / options.max_iterations, "polish");
-    bool kept = false;
-    Positions trial;
-    Eigen::VectorXd trial_defects;
-    double trial_energy = 0.0;
-    while (!kept) {
-      if (!factored) {
-        factored = factor(damping);
-        if (!factored) {
-          damping *= kDampingUp;
-          if (damping > kLargestDamping) break;
-          continue;
-        }
-      }
-      const Eigen::VectorXd step = -(jacobian.matrix().transpose() * system.solve(residual));
-      if (!step.allFinite()) {
-        factored = false;
-        damping *= kDampingUp;
-        if (damping > kLargestDamping) break;
+}
+
+// The full step and its halvings: the first that keeps its faces (unfold)
+// and lowers sum K^2 becomes the trial; false if none does.
+bool RegionPolish::try_lengths(const Eigen::VectorXd& step) {
+  double length = 1.0;
+  for (int halving = 0; halving <= kHalvings; ++halving, length *= 0.5) {
+    trial_ = moved(step, length);
+    // Faces near 90 degrees from their reference turn over at any step
+    // length (human_woman), and faces a step would crease (the crease
+    // guard): their corners keep their place instead, ring by ring.
+    if (!unfold(trial_)) continue;
+    trial_defects_ = angle_defects(trial_, triangles_, region_.rows);
+    trial_energy_ = residual_at(trial_defects_).squaredNorm();
+    if (trial_energy_ < energy_) return true;
+  }
+  return false;
+}
+
+// One Levenberg-Marquardt iteration's search for a kept step: the step of
+// the current factor (or of a new one), halved; a stale factor that fails is
+// renewed, a fresh one that fails gets more damping. False when the damping
+// would exceed kLargestDamping.
+bool RegionPolish::descend() {
+  while (true) {
+    if (!factored_) {
+      factored_ = factor(damping_);
+      if (!factored_) {
+        damping_ *= kDampingUp;
+        if (damping_ > kLargestDamping) return false;
         continue;
       }
-      double length = 1.0;
-      for (int halving = 0; halving <= kHalvings && !kept; ++halving, length *= 0.5) {
-        trial = moved(step, length);
-        if (!unfold(trial)) continue;
-        trial_defects = angle_defects(trial, triangles, region.rows);
-        trial_energy = residual_at(trial_defects).squaredNorm();
-        kept = trial_energy < energy;
-      }
-      if (kept) break;
-      // The full step and its halvings failed: a stale factor is refreshed
-      // first, a fresh one gets more damping.
-      if (fresh) damping *= kDampingUp;
-      fresh = false;
-      factored = false;
-      if (damping > kLargestDamping) break;
     }
-    if (!kept) break;
-    const double decrease = (energy - trial_energy) / energy;
-    current = std::move(trial);
-    defects = std::move(trial_defects);
-    residual = jacobian.evaluate(current, defects);
-    energy = trial_energy;
-    ++result.iterations;
-    if (give_up.active()) {
-      result.largest_move =
-          std::max(result.largest_move, give_up.rms((current - reference).rowwise().squaredNorm().sum()));
-      if (result.largest_move > give_up.bound()) {
-        result.gave_up = true;
-        break;
-      }
+    const Eigen::VectorXd step = -(jacobian_->matrix().transpose() * system_.solve(residual_));
+    if (!step.allFinite()) {
+      factored_ = false;
+      damping_ *= kDampingUp;
+      if (damping_ > kLargestDamping) return false;
+      continue;
     }
+    if (try_lengths(step)) return true;
+    if (fresh_) damping_ *= kDampingUp;
+    fresh_ = false;
+    factored_ = false;
+    if (damping_ > kLargestDamping) return false;
+  }
+}
+
+// The trial becomes the iterate.
+void RegionPolish::take_trial() {
+  current_ = std::move(trial_);
+  defects_ = std::move(trial_defects_);
+  residual_ = jacobian_->evaluate(current_, defects_);
+  energy_ = trial_energy_;
+  ++result_.iterations;
+}
+
+// The give-up bounds after a kept step (PolishOptions::give_up_move,
+// late_give_up_move).
+bool RegionPolish::gives_up() {
+  if (!give_up_.active()) return false;
+  result_.largest_move =
+      std::max(result_.largest_move, give_up_.rms((current_ - reference_).rowwise().squaredNorm().sum()));
+  result_.gave_up = result_.largest_move > give_up_.bound();
+  return result_.gave_up;
+}
+
+// The stall rules after a kept step:
+// over the last kStallWindow steps sum K^2 fell by less than half and no
+// vertex became flat (|K| < kFlatDefect): the rest is curvature the
+// constraints cannot remove (the corners of a hull); or every row is flat
+// and the last kFinishWindow steps took off less than kFinishDecrease.
+bool RegionPolish::stalls() {
+  const Eigen::Index flat = (residual_.array().abs() < kFlatDefect).count();
+  history_.push_back({energy_, flat});
+  if (history_.size() > kStallWindow) {
+    const auto& then = history_[history_.size() - 1 - kStallWindow];
+    if (energy_ > 0.5 * then.first && flat <= then.second) return true;
+  }
+  return flat == rows_ && history_.size() > kFinishWindow &&
+         energy_ > (1.0 - kFinishDecrease) * history_[history_.size() - 1 - kFinishWindow].first;
+}
+
+PolishResult RegionPolish::run(Eigen::VectorXd defects) {
+  if (rows_ == 0 || free_count_ == 0) return std::move(result_);
+  jacobian_.emplace(triangles_, row_of_, free_of_, rows_, free_count_);
+  normal_.emplace(jacobian_->matrix());
+  defects_ = std::move(defects);
+  residual_ = jacobian_->evaluate(current_, defects_);
+  result_.residual_before = std::sqrt(residual_.squaredNorm() / static_cast<double>(rows_));
+  result_.residual_after = result_.residual_before;
+  least_damping_ = std::max(kSmallestDamping, options_.spread_damping);
+  damping_ = std::max(kInitialDamping, least_damping_);
+  pull();
+  energy_ = residual_.squaredNorm();
+  for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
+    if (residual_.lpNorm<Eigen::Infinity>() < options_.target_defect) break;
+    if (least_damping_ > kSmallestDamping && residual_.lpNorm<Eigen::Infinity>() < options_.spread_until) {
+      least_damping_ = kSmallestDamping;
+      damping_ = kInitialDamping;
+      factored_ = false;
+    }
+    progress_.report(static_cast<double>(iteration) / options_.max_iterations, "polish");
+    if (!descend()) break;
+    const double decrease = (energy_ - trial_energy_) / energy_;
+    take_trial();
+    if (gives_up()) break;
     // A step that gains next to nothing at small damping does not mean that
     // no step can: faces that would turn over keep their corners, and the
     // Gauss-Newton step of what is left may be a poor one. The steps of more
@@ -392,35 +577,31 @@ PolishResult polish_region(const Positions& start, const Positions& reference, c
     // on, the run ends 55 % flat instead of 53 %, its mean |defect| -3.7 %
     // instead of +1.3 %).
     if (decrease < kStallDecrease) {
-      if (damping * kDampingUp > kLargestDamping) break;
-      damping = std::max(damping, kInitialDamping) * kDampingUp;
-      factored = false;
-      fresh = false;
+      if (damping_ * kDampingUp > kLargestDamping) break;
+      damping_ = std::max(damping_, kInitialDamping) * kDampingUp;
+      factored_ = false;
+      fresh_ = false;
       continue;
     }
-    // Stalled: over the last kStallWindow steps sum K^2 fell by less than
-    // half and no vertex became flat (|K| < kFlatDefect): the rest is
-    // curvature the constraints cannot remove (the corners of a hull).
-    const Eigen::Index flat = (residual.array().abs() < kFlatDefect).count();
-    history.push_back({energy, flat});
-    if (history.size() > kStallWindow) {
-      const auto& then = history[history.size() - 1 - kStallWindow];
-      if (energy > 0.5 * then.first && flat <= then.second) break;
-    }
-    if (flat == rows && history.size() > kFinishWindow &&
-        energy > (1.0 - kFinishDecrease) * history[history.size() - 1 - kFinishWindow].first)
-      break;
+    if (stalls()) break;
     // A factor whose step gained well is kept; else refactor (with less
     // damping when the fresh one did well).
-    fresh = false;
+    fresh_ = false;
     if (decrease < kReuseDecrease) {
-      factored = false;
-      damping = std::max(damping / kDampingDown, least_damping);
+      factored_ = false;
+      damping_ = std::max(damping_ / kDampingDown, least_damping_);
     }
   }
-  result.positions = std::move(current);
-  result.residual_after = std::sqrt(residual.squaredNorm() / static_cast<double>(rows));
-  return result;
+  result_.positions = std::move(current_);
+  result_.residual_after = std::sqrt(residual_.squaredNorm() / static_cast<double>(rows_));
+  return std::move(result_);
+}
+
+PolishResult polish_region(const Positions& start, const Positions& reference, const Normals& reference_normals,
+                           const Triangles& triangles, const Region& region, Eigen::VectorXd defects,
+                           const PolishOptions& options, const GiveUp& give_up, const Progress& progress) {
+  RegionPolish polish(start, reference, reference_normals, triangles, region, options, give_up, progress);
+  return polish.run(std::move(defects));
 }
 
 }  // namespace

@@ -215,7 +215,7 @@ def write_report(path, info, runs, patches, mesh_name, pictures):
         % (info["cpu"], info["cores"], info["load"], info["version"], info["abi"], info["commit"], info["date"])
     )
     add(
-        "- Two runs through the C ABI (`addon/native.py`). Apart from the settings named, "
+        "- Two runs through the C ABI (`addon/core/native.py`). Apart from the settings named, "
         "every parameter is the engine's default: %s mode, %s solver, ω = %g, %s seams, "
         "target smoothing %s, at most %d iterations, MLS weights %s."
         % (

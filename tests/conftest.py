@@ -45,7 +45,7 @@ def tool_path(build_dir):
 
 @pytest.fixture(scope="session")
 def library(library_path):
-    """The engine of the build under test, loaded into addon/native.py (the one
+    """The engine of the build under test, loaded into addon/core/native.py (the one
     binding): tests call native.run(...); raw C ABI tests call library.dev_*."""
     return native.load(path=library_path)
 

@@ -13,7 +13,7 @@ from devkit.binding import native
 
 
 def load_native(library_path):
-    """addon/native.py (devkit/binding.py) with the build under test loaded."""
+    """addon/core/native.py (devkit/binding.py) with the build under test loaded."""
     native.load(path=library_path)
     return native
 

@@ -1,4 +1,4 @@
-"""Flat patterns through the C ABI (dev_unfold, bound by addon/native.py):
+"""Flat patterns through the C ABI (dev_unfold, bound by addon/core/native.py):
 exact developables unfold isometrically, strain is reported honestly, the
 layout keeps pieces apart, the seams match, the SVG is at true scale."""
 import shutil

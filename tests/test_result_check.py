@@ -2,7 +2,7 @@
 face over and is no worse than the input on mean |defect| (a closed mesh: at
 most 5 % worse, said in the message) and on the flat share; otherwise it
 returns the input, says so (result UNCHANGED, a message) and the tool warns.
-Through the add-on's binding, addon/native.py."""
+Through the add-on's binding, addon/core/native.py."""
 import json
 import subprocess
 

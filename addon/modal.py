@@ -11,6 +11,8 @@ the progress when there is a window.
 
 An operator using it defines:
   status_label                the name in the status bar
+  _begin(context, interactive) -> the targets, or None (reported); interactive:
+                              invoked from a window (not a script or the redo panel)
   prepare(context, target)    -> a Job, or raises Refused (the message is the report)
   finish_one(context, target, job) -> (level set, message)
   finish_all(context, results, cancelled) -> the operator's return set, with
@@ -20,6 +22,7 @@ import bpy
 
 from . import mesh_io
 from .core import native
+from .core.text import plural
 
 
 class Refused(Exception):
@@ -44,10 +47,36 @@ def cancelled_by_user(job):
     return isinstance(exc, native.EngineError) and exc.status == native.STATUS_CANCELLED
 
 
+def non_mesh_note(context):
+    """(level set, message) naming the selected objects that are not meshes, or None."""
+    others = sorted(o.name for o in context.selected_objects if o.type != "MESH")
+    if not others:
+        return None
+    return {"INFO"}, "%s not a mesh, left out: %s" % (
+        plural(len(others), "object is", "objects are"),
+        ", ".join(others),
+    )
+
+
 class ModalRun:
     status_label = "Developable"
     _timer = None
     _job = None
+
+    # -- entry points ------------------------------------------------------------
+    def execute(self, context):
+        targets = self._begin(context, interactive=False)
+        if targets is None:
+            return {"CANCELLED"}
+        return self.run_all(context, targets)
+
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        targets = self._begin(context, interactive=True)
+        if targets is None:
+            return {"CANCELLED"}
+        return self.run_modal(context, targets)
 
     # -- synchronous -------------------------------------------------------------
     def run_all(self, context, targets):

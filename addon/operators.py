@@ -30,7 +30,7 @@ from .core import checks, native
 from .core import verdict as verdicts
 from .core.jobs import Job
 from .core.text import library_message, plural
-from .modal import ModalRun, Refused, cancelled_by_user, restore_mode
+from .modal import ModalRun, Refused, cancelled_by_user, non_mesh_note, restore_mode
 from .panels import draw_settings
 from .properties import (
     AUTOMATIC,
@@ -163,15 +163,9 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
             objs = list(getattr(context, "objects_in_mode", None) or [active])
         else:
             objs = [o for o in context.selected_objects if o.type == "MESH"]
-            others = sorted(o.name for o in context.selected_objects if o.type != "MESH")
-            if others:
-                self._notes.append(
-                    (
-                        {"INFO"},
-                        "%s not a mesh, left out: %s"
-                        % (plural(len(others), "object is", "objects are"), ", ".join(others)),
-                    )
-                )
+            note = non_mesh_note(context)
+            if note is not None:
+                self._notes.append(note)
         if active is not None and active.type == "MESH":
             objs = [active] + [o for o in objs if o != active]
         targets, by_mesh = [], {}
@@ -184,14 +178,15 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
             targets.append(t)
         return targets
 
-    def _begin(self, context, write_back):
-        """Library, settings, targets; leaves Edit mode. Returns the targets or None."""
+    def _begin(self, context, interactive):
+        """Library, settings, targets; leaves Edit mode. Returns the targets or None.
+        interactive: the settings are written back to the scene (see _resolve_settings)."""
         lib, err = native.try_load()
         if lib is None:
             self.report({"ERROR"}, error_text(native.LibraryError(err), ""))
             return None
         self._notes = []
-        self._resolve_settings(context, write_back)
+        self._resolve_settings(context, interactive)
         targets = self._targets(context)
         self._active_name = context.active_object.name
         self._was_edit = context.mode == "EDIT_MESH"
@@ -438,21 +433,6 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
             return {"CANCELLED"}
         finally:
             restore_mode(context, self._select_errors, self._was_edit, self._active_name)
-
-    # -- entry points ---------------------------------------------------------
-    def execute(self, context):
-        targets = self._begin(context, write_back=False)
-        if targets is None:
-            return {"CANCELLED"}
-        return self.run_all(context, targets)
-
-    def invoke(self, context, event):
-        if bpy.app.background or context.window is None:
-            return self.execute(context)
-        targets = self._begin(context, write_back=True)
-        if targets is None:
-            return {"CANCELLED"}
-        return self.run_modal(context, targets)
 
 
 class MESH_OT_developable_weld(Operator):

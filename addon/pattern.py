@@ -32,7 +32,7 @@ from . import mesh_io, writeback
 from .core import checks, native
 from .core.jobs import Job
 from .core.text import percent, plural
-from .modal import ModalRun, Refused, cancelled_by_user, restore_mode
+from .modal import ModalRun, Refused, cancelled_by_user, non_mesh_note, restore_mode
 
 UV_MAP = "Developable Pattern"
 STRAIN = "pattern_strain"
@@ -283,8 +283,9 @@ strain attribute and SVG sheets at true scale"""
         obj = context.active_object
         return obj is not None and obj.type == "MESH"
 
-    def _begin(self, context):
-        """Targets, paths; leaves Edit mode. Returns the targets or None (reported)."""
+    def _begin(self, context, interactive):
+        """Targets, paths; leaves Edit mode. Returns the targets or None (reported).
+        interactive: no difference here (the pattern's settings are the scene's)."""
         lib, err = native.try_load()
         if lib is None:
             self.report({"ERROR"}, err)
@@ -302,15 +303,9 @@ strain attribute and SVG sheets at true scale"""
         active = context.active_object
         objs = [active] + [o for o in context.selected_objects if o.type == "MESH" and o != active]
         self._notes = []
-        others = sorted(o.name for o in context.selected_objects if o.type != "MESH")
-        if others:
-            self._notes.append(
-                (
-                    {"INFO"},
-                    "%s not a mesh, left out: %s"
-                    % (plural(len(others), "object is", "objects are"), ", ".join(others)),
-                )
-            )
+        note = non_mesh_note(context)
+        if note is not None:
+            self._notes.append(note)
         seen, targets = set(), []
         for o in objs:
             if o.data.name in seen:
@@ -485,20 +480,6 @@ strain attribute and SVG sheets at true scale"""
             if self._folder:
                 shutil.rmtree(self._folder, ignore_errors=True)
             restore_mode(context, self._select_errors, self._was_edit, self._active_name)
-
-    def execute(self, context):
-        targets = self._begin(context)
-        if targets is None:
-            return {"CANCELLED"}
-        return self.run_all(context, targets)
-
-    def invoke(self, context, event):
-        if bpy.app.background or context.window is None:
-            return self.execute(context)
-        targets = self._begin(context)
-        if targets is None:
-            return {"CANCELLED"}
-        return self.run_modal(context, targets)
 
 
 classes = (DevelopablePatternSettings, DevelopablePatternRecord, MESH_OT_unfold_pattern)

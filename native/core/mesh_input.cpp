@@ -81,10 +81,11 @@ void check_duplicates(const Triangles& triangles) {
   }
 }
 
-// Edges of more than two triangles. Either winding of a triangle is
-// accepted: which way neighbours run their shared edge is no error (an
-// inconsistently wound or one-sided mesh, orientation.h).
-void check_edges(const Triangles& triangles) {
+// Every triangle's three edges as keys (smaller index << 32 | larger index),
+// sorted: an edge's triangles are one run of equal keys. One sort of plain
+// keys; a map from each directed edge to its reverse cost a 1M-face run half
+// a second per call.
+std::vector<std::uint64_t> sorted_edge_keys(const Triangles& triangles) {
   std::vector<std::uint64_t> keys;
   keys.reserve(static_cast<size_t>(triangles.rows()) * 3);
   for (Eigen::Index f = 0; f < triangles.rows(); ++f)
@@ -94,6 +95,14 @@ void check_edges(const Triangles& triangles) {
       keys.push_back(static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b));
     }
   std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+// Edges of more than two triangles. Either winding of a triangle is
+// accepted: which way neighbours run their shared edge is no error (an
+// inconsistently wound or one-sided mesh, orientation.h).
+void check_edges(const Triangles& triangles) {
+  const std::vector<std::uint64_t> keys = sorted_edge_keys(triangles);
   for (size_t i = 0; i < keys.size();) {
     size_t j = i + 1;
     while (j < keys.size() && keys[j] == keys[i]) ++j;
@@ -168,18 +177,8 @@ Eigen::Index coincident_vertices(const Positions& positions) {
 
 std::vector<bool> boundary_vertices(const Positions& positions, const Triangles& triangles) {
   // On a validated mesh an edge is on the boundary when one triangle has
-  // it: its key (smaller index, larger index) appears once. One sort of
-  // plain keys; looking up each directed edge's reverse cost a 1M-face run
-  // half a second per call.
-  std::vector<std::uint64_t> keys;
-  keys.reserve(static_cast<size_t>(triangles.rows()) * 3);
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
-    for (int c = 0; c < 3; ++c) {
-      const auto a = static_cast<std::uint32_t>(triangles(f, c)),
-                 b = static_cast<std::uint32_t>(triangles(f, (c + 1) % 3));
-      keys.push_back(static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b));
-    }
-  std::sort(keys.begin(), keys.end());
+  // it: its key appears once.
+  const std::vector<std::uint64_t> keys = sorted_edge_keys(triangles);
   std::vector<bool> boundary(static_cast<size_t>(positions.rows()), false);
   for (size_t i = 0; i < keys.size();) {
     size_t j = i + 1;

@@ -288,9 +288,7 @@ def engine_property_definitions():
             update=u,
             description="Rounds of averaging each face's target direction with its neighbours' "
             "in the same piece, so that a piece curved both ways follows a smooth target instead "
-            "of crumpling. Automatic: one round on a split mesh; on one piece none, then "
-            "averaging along the rulings if the run stalls with much curvature left "
-            "and the angle polish is off",
+            "of crumpling. Automatic: one round on a split mesh, none on one piece",
         ),
         "polish": EnumProperty(
             name="Angle Polish",

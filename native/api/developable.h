@@ -164,11 +164,8 @@ typedef struct dev_params {
   int32_t solver;               /* DEV_SOLVER_*. Default DEV_SOLVER_DECOUPLED; DEV_MODE_PAPER always
                                    uses the coupled system, as the paper does. */
   int32_t target_smoothing;     /* rounds of averaging the target normals over neighbouring faces of
-                                   the same patch, 0-100; -1 = automatic (default): in the refit mode 1
-                                   on a segmented mesh; on one patch 0, and if the run stalls with
-                                   more than 10 % of its curvature left it goes on from the best
-                                   iterate with the targets averaged along the rulings instead
-                                   (only when the polish is off). */
+                                   the same patch, 0-100; -1 = automatic (default): 1 on a segmented
+                                   mesh, 0 on one patch. */
   /* ABI 4: */
   double max_move; /* largest vertex move as a fraction of the bounding box's diagonal;
                       the smaller of this and `tolerance` applies; <= 0 means no limit.

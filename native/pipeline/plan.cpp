@@ -6,11 +6,15 @@
 #include "pipeline/patch_alternative.h"
 #include "pipeline/patches.h"
 #include "pipeline/selection.h"
+#include "segmentation/crease_pieces.h"
+#include "segmentation/crease_strength.h"
 #include "segmentation/developable_pieces.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 
 namespace developable {
 
@@ -31,6 +35,16 @@ bool splits_finer(const PipelineStats& automatic) {
           reason == UnchangedReason::no_visible_gain);
 }
 
+bool takes_crease_pieces(int wanted_patches, int count, double worst_fit, double border_defect, double inside_defect) {
+  return wanted_patches <= 0 && count >= 2 && worst_fit <= kCreasePieceFit &&
+         border_defect >= kBorderCurvature * inside_defect;
+}
+
+double crease_move_limit(double limit, double noise) {
+  const double within = kCreaseMoveNoise * noise;
+  return limit > 0.0 ? std::min(limit, within) : within;
+}
+
 namespace {
 
 // The pieces the curvature already cuts the mesh into, each flat inside (a
@@ -46,6 +60,41 @@ std::optional<Patches> developable_pieces_of(const MeasuredInput& input) {
   Patches patches = fitted_patches(std::move(*pieces), count, input.normals, input.areas, input.options);
   patches.developable = true;
   return patches;
+}
+
+// Mean |defect| (rad) of the interior vertices on the pieces' borders and of
+// those inside them.
+std::pair<double, double> border_and_inside_defects(const MeasuredInput& input, const std::vector<int>& ids) {
+  const std::vector<bool> border = patch_border_vertices(input.triangles, ids, input.positions.rows());
+  double sums[2] = {0.0, 0.0};
+  Eigen::Index counts[2] = {0, 0};
+  for (Eigen::Index v = 0; v < input.positions.rows(); ++v) {
+    if (!input.measured.interior[static_cast<size_t>(v)]) continue;
+    const int k = border[static_cast<size_t>(v)] ? 0 : 1;
+    sums[k] += std::abs(input.measured.defect_before[v]);
+    ++counts[k];
+  }
+  return {counts[0] > 0 ? sums[0] / static_cast<double>(counts[0]) : 0.0,
+          counts[1] > 0 ? sums[1] / static_cast<double>(counts[1]) : 0.0};
+}
+
+// The pieces the crease lines of a noisy mesh part it into (a mitred elbow,
+// a tee, a reducer with noise on every vertex), as patches, when the plan
+// takes them (takes_crease_pieces); none when the input is developable
+// already.
+std::optional<Patches> crease_pieces_of(const MeasuredInput& input, const Progress& progress, double& noise) {
+  const PipelineOptions& options = input.options;
+  if (input.before.mean_abs <= options.developable_threshold || options.segmentation_options.target_patches > 0)
+    return std::nullopt;
+  progress.report(0.0, "crease lines");
+  CreasePieces pieces =
+      crease_pieces(input.positions, input.triangles, input.normals, input.areas, input.connectivity, options.threads);
+  const double worst = pieces.fit.empty() ? 0.0 : *std::max_element(pieces.fit.begin(), pieces.fit.end());
+  const auto [border, inside] = border_and_inside_defects(input, pieces.ids);
+  if (!takes_crease_pieces(options.segmentation_options.target_patches, pieces.count, worst, border, inside))
+    return std::nullopt;
+  noise = std::max(pieces.cone_noise, kNoiseFloor * input.measured.stats.average_edge_length);
+  return fitted_patches(std::move(pieces.ids), pieces.count, input.normals, input.areas, options);
 }
 
 // Of the results of two alternatives, the one the order (select) returns: an
@@ -111,6 +160,13 @@ PipelineResult run_plan(const MeasuredInput& input, const Progress& progress) {
     return run_patch_alternative(input, one_patch(input.normals, input.areas, options), progress);
   if (std::optional<Patches> pieces = developable_pieces_of(input))
     return run_patch_alternative(input, std::move(*pieces), progress);
+  double noise = 0.0;
+  if (std::optional<Patches> pieces = crease_pieces_of(input, progress, noise)) {
+    MeasuredInput within = input;
+    within.limit = crease_move_limit(input.limit, noise);
+    within.measured.stats.move_limit = within.limit;
+    return run_patch_alternative(within, std::move(*pieces), progress);
+  }
   Patches single;
   if (options.segmentation == -1 && !input.closed) {
     single = one_patch(input.normals, input.areas, options);

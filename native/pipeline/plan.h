@@ -1,9 +1,10 @@
 // The plan of a run: which patch alternatives it runs and which result it
 // returns. One patch when one set of ideal curves carries the whole Gauss
-// image; the pieces the curvature already cuts the mesh into; else the
-// segmentation's patches, with a second opinion (the same mesh as one patch)
-// on small open meshes and a finer split when a closed mesh came back
-// unchanged. The decisions are pure functions (tests/unit/plan_test.cpp).
+// image; the pieces the curvature already cuts the mesh into; the pieces the
+// crease lines of a noisy mesh part it into; else the segmentation's
+// patches, with a second opinion (the same mesh as one patch) on small open
+// meshes and a finer split when a closed mesh came back unchanged. The
+// decisions are pure functions (tests/unit/plan_test.cpp).
 #pragma once
 
 #include "pipeline/options.h"
@@ -44,6 +45,43 @@ bool wants_second_opinion(const PipelineOptions& options, int patch_count, bool 
 // inadmissible, none was better, or none showed a gain (not because it was
 // developable already): smaller patches gather less curvature on each seam.
 bool splits_finer(const PipelineStats& automatic);
+
+// The curvature must sit on the crease pieces' borders: the mean |angle
+// defect| of the interior vertices on a border at least this many times that
+// of the vertices inside the pieces. A crease carries angle defect, noise
+// spreads it everywhere, a tangent seam carries none: on seeds 0-19 of
+// devkit/assemblies.py the true pieces of every part but the square-to-round
+// transition give 4.4-285 (noise 0.5-5 %), the transitions' tangent seams
+// 0.8-1.4, and the pieces found on a transition where its apex fans made
+// lines 0.44 (docs/segmentation.md, "Assemblies under noise").
+inline constexpr double kBorderCurvature = 2.0;
+
+// Whether the crease pieces (segmentation/crease_pieces.h) are the patches of
+// a run: the caller wants no patch count of its own (wanted_patches 0), there
+// are two pieces or more, each fits its cone within the noise (worst_fit at
+// most kCreasePieceFit) and the curvature sits on their borders
+// (border_defect at least kBorderCurvature times inside_defect; both mean
+// |defect|, rad).
+bool takes_crease_pieces(int wanted_patches, int count, double worst_fit, double border_defect, double inside_defect);
+
+// On crease pieces a vertex moves at most this many times the noise that
+// leaves their cones (its standard deviation along the normal, crease_pieces.h's
+// cone_noise): the run removes noise, it does not reshape the part. Uniform
+// noise of amplitude a per coordinate has a standard deviation of a / sqrt(3)
+// along the normal and moves a vertex along it by at most a, 1.73 times that.
+// Under the user's limit alone (1 % of the diagonal), the deformation moved a
+// tee's branch and a cup's side as a whole by up to 20 times the noise to
+// make them flat (seeds 0-19: Hausdorff distance to the noise-free twin 7-20
+// times the input's); with 3 times the noise 16 of 160 runs ended farther
+// than 1.5 times the input's, the polish pushing single vertices of irregular
+// triangulations outward to the limit; with 2 times, 2 (1.61, 1.66; flat
+// shares 99-100 %); with 1.5 times, the 12 farthest of 3 times within 1.5, but
+// flat shares down to 91 %.
+inline constexpr double kCreaseMoveNoise = 2.0;
+
+// The move limit (caller's units) of a run on crease pieces: the smaller of
+// the run's `limit` (0: none) and kCreaseMoveNoise times `noise` (> 0).
+double crease_move_limit(double limit, double noise);
 
 // Runs the plan on a measured input and returns its result.
 PipelineResult run_plan(const MeasuredInput& input, const Progress& progress);

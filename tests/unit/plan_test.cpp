@@ -1,7 +1,11 @@
 // plan.h: which patch alternatives a run makes, on synthetic figures.
 #include "pipeline/plan.h"
 
+#include "segmentation/crease_pieces.h"
+
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace developable {
 namespace {
@@ -46,6 +50,26 @@ TEST(Plan, FinerSplitOnlyWhereTheAutomaticRunFailed) {
   s.result = ResultKind::improved;
   s.unchanged_reason = UnchangedReason::none;
   EXPECT_FALSE(splits_finer(s));
+}
+
+// Crease pieces: no count of the caller's, two pieces or more, each within
+// the noise of its cone, the curvature on their borders.
+TEST(Plan, CreasePiecesTakenWhenTheyFitTheirConesAndHoldTheCurvature) {
+  EXPECT_TRUE(takes_crease_pieces(0, 2, kCreasePieceFit, 2.0, 1.0));
+  EXPECT_TRUE(takes_crease_pieces(0, 6, 0.3, 50.0, 0.01));
+  EXPECT_FALSE(takes_crease_pieces(3, 2, 0.5, 2.0, 1.0));  // the caller wants 3 patches
+  EXPECT_FALSE(takes_crease_pieces(0, 1, 0.5, 2.0, 1.0));  // one sheet
+  EXPECT_FALSE(takes_crease_pieces(0, 2, std::nextafter(kCreasePieceFit, 2.0), 2.0, 1.0));  // a piece fits no cone
+  EXPECT_FALSE(takes_crease_pieces(0, 2, 0.5, 1.999, 1.0));  // curvature inside the pieces
+  EXPECT_FALSE(takes_crease_pieces(0, 8, 0.7, 0.44, 1.0));   // a transition's tangent seams
+}
+
+// The move limit on crease pieces: kCreaseMoveNoise times the noise, or the
+// caller's limit where that is smaller; no caller's limit (0): the noise's.
+TEST(Plan, CreasePiecesMoveWithinTheNoise) {
+  EXPECT_DOUBLE_EQ(crease_move_limit(1.0, 0.01), kCreaseMoveNoise * 0.01);
+  EXPECT_DOUBLE_EQ(crease_move_limit(0.001, 0.01), 0.001);
+  EXPECT_DOUBLE_EQ(crease_move_limit(0.0, 0.01), kCreaseMoveNoise * 0.01);
 }
 
 }  // namespace

@@ -57,6 +57,8 @@ bool one_sheet_within_noise(const Figures& other, const Figures& input, double o
   return as_developable(other, developable, input) && other_rms_motion <= kCreaseMoveNoise * noise;
 }
 
+bool others_compete(bool crease_pieces_improved, bool one_sheet) { return !crease_pieces_improved || one_sheet; }
+
 double crease_move_limit(double limit, double noise) {
   const double within = kCreaseMoveNoise * noise;
   return limit > 0.0 ? std::min(limit, within) : within;
@@ -240,7 +242,9 @@ PipelineResult run_plan(const MeasuredInput& input, const Progress& progress) {
     const bool sheet = other.stats.result == ResultKind::improved &&
                        one_sheet_within_noise(figures_of(other), figures_of(input),
                                               motion_of(other.positions, input.positions).rms, noise);
-    PipelineResult& chosen = sheet ? preferred(input, other, creased) : creased;
+    PipelineResult& chosen = others_compete(creased.stats.result == ResultKind::improved, sheet)
+                                 ? preferred(input, other, creased)
+                                 : creased;
     chosen.stats.time_total_ms = elapsed_ms(input.start_time);
     return std::move(chosen);
   }

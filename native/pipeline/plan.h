@@ -83,6 +83,15 @@ bool takes_crease_pieces(int wanted_patches, int count, double worst_fit, double
 // flat shares down to 91 %.
 inline constexpr double kCreaseMoveNoise = 2.0;
 
+// Whether the result of the plan's other alternatives competes with the run
+// on crease pieces (whose creases did not decide, crease_pieces_compete):
+// when it shows one developable sheet within the noise
+// (one_sheet_within_noise), or when the crease pieces' run improved nothing
+// (then the order returns the other result if it improved the input: with
+// the polish off, a curved fold's run on its pieces comes back unchanged
+// and its one-patch deformation is the result, as without crease pieces).
+bool others_compete(bool crease_pieces_improved, bool one_sheet);
+
 // The move limit (caller's units) of a run on crease pieces: the smaller of
 // the run's `limit` (0: none) and kCreaseMoveNoise times `noise` (> 0).
 double crease_move_limit(double limit, double noise);

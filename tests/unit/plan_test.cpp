@@ -169,5 +169,14 @@ TEST(Plan, OneSheetWithinNoiseIsDevelopableAndMovedNoMoreThanTheNoise) {
   EXPECT_FALSE(one_sheet_within_noise(almost, input, noise, noise));
 }
 
+// The other alternatives compete where they show one sheet within the noise,
+// or where the crease pieces' run improved nothing.
+TEST(Plan, OtherAlternativesCompeteAsOneSheetOrWhereTheCreasePiecesDidNothing) {
+  EXPECT_FALSE(others_compete(true, false));
+  EXPECT_TRUE(others_compete(true, true));
+  EXPECT_TRUE(others_compete(false, false));
+  EXPECT_TRUE(others_compete(false, true));
+}
+
 }  // namespace
 }  // namespace developable

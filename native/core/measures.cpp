@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace developable {
 namespace {
@@ -279,6 +281,37 @@ VertexShares vertex_shares(const Eigen::VectorXd& defects, const Eigen::VectorXd
   if (count == 0) return {};
   const double total = static_cast<double>(count);
   return {flat / total, ruled / total, (flat - ruled) / total};
+}
+
+double angle_defect_noise_gain(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                               const VertexFaces& connectivity, Eigen::Index v) {
+  // The gradients of K_v with respect to v and each neighbour, gathered per
+  // vertex (a neighbour is in two of v's faces on a closed star).
+  std::vector<std::pair<int, Eigen::Vector3d>> gradients;
+  const Eigen::Vector3d a = positions.row(v).transpose();
+  for (const int* f = connectivity.begin(v); f != connectivity.end(v); ++f) {
+    int c = 0;
+    while (triangles(*f, c) != v) ++c;
+    const int b = triangles(*f, (c + 1) % 3), d = triangles(*f, (c + 2) % 3);
+    const Eigen::Vector3d n = normals.row(*f).transpose();
+    const Eigen::Vector3d u = positions.row(b).transpose() - a, w = positions.row(d).transpose() - a;
+    if (n.squaredNorm() == 0.0 || u.squaredNorm() == 0.0 || w.squaredNorm() == 0.0) continue;
+    // K_v = 2 pi - sum theta: dK/dx = -d theta/dx.
+    const Eigen::Vector3d grad_b = n.cross(u) / u.squaredNorm();
+    const Eigen::Vector3d grad_d = -n.cross(w) / w.squaredNorm();
+    gradients.emplace_back(b, grad_b);
+    gradients.emplace_back(d, grad_d);
+    gradients.emplace_back(static_cast<int>(v), -(grad_b + grad_d));
+  }
+  std::sort(gradients.begin(), gradients.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  double gain = 0.0;
+  for (size_t i = 0; i < gradients.size();) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    const int vertex = gradients[i].first;
+    for (; i < gradients.size() && gradients[i].first == vertex; ++i) sum += gradients[i].second;
+    gain += sum.squaredNorm();
+  }
+  return gain;
 }
 
 }  // namespace developable

@@ -39,6 +39,23 @@ double average_edge_length(const Positions& positions, const Triangles& triangle
 Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles,
                               const std::vector<bool>& interior);
 
+// How much vertex v's angle defect answers noise on the vertices: the sum,
+// over v and the vertices around it, of the squared length of the gradient
+// of K_v with respect to each one's position (rad^2 per unit length^2).
+// Independent noise of standard deviation s per coordinate on every vertex
+// gives K_v a variance of about s^2 times this, to first order. Where the
+// faces around v lie in one plane it is 0 (a flat vertex's defect is of
+// second order in the noise); across a fold whose sides meet at dihedral
+// angle phi it grows as sin^2(phi / 2) over the edge lengths squared, so
+// noise gives the vertices of a curved fold angle defects of first order
+// that a crease of real curvature must exceed. The corner angle gradient is
+// defect_polish.h's.
+//   normals: face_normals of positions; connectivity: vertex_faces of the
+//   same triangles; v: any vertex (a boundary vertex's sum is of its corner
+//   angles alone). Zero-area faces add nothing.
+double angle_defect_noise_gain(const Positions& positions, const Triangles& triangles, const Normals& normals,
+                               const VertexFaces& connectivity, Eigen::Index v);
+
 struct DefectStats {
   double mean_abs = 0.0;  // E^mean of the paper: mean |defect| over interior vertices, rad
   double max_abs = 0.0;

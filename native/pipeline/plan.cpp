@@ -6,11 +6,15 @@
 #include "pipeline/patch_alternative.h"
 #include "pipeline/patches.h"
 #include "pipeline/selection.h"
+#include "segmentation/crease_pieces.h"
+#include "segmentation/crease_strength.h"
 #include "segmentation/developable_pieces.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 
 namespace developable {
 
@@ -31,6 +35,35 @@ bool splits_finer(const PipelineStats& automatic) {
           reason == UnchangedReason::no_visible_gain);
 }
 
+bool takes_crease_pieces(int wanted_patches, int count, double worst_fit, double border_defect, double inside_defect) {
+  return wanted_patches <= 0 && count >= 2 && worst_fit <= kCreasePieceFit &&
+         border_defect >= kBorderCurvature * inside_defect;
+}
+
+double crease_defect_excess(const std::vector<double>& defects, const std::vector<double>& gains, double noise) {
+  double squares = 0.0, gain = 0.0;
+  for (const double k : defects) squares += k * k;
+  for (const double g : gains) gain += g;
+  if (squares == 0.0) return 0.0;
+  const double expected = noise * noise * gain;
+  return expected > 0.0 ? squares / expected : std::numeric_limits<double>::infinity();
+}
+
+bool crease_pieces_compete(double defect_excess) { return !(defect_excess >= kCreaseDefectExcess); }
+
+bool one_sheet_within_noise(const Figures& other, const Figures& input, double other_rms_motion, double noise) {
+  Figures developable;
+  developable.flat = 1.0;
+  return as_developable(other, developable, input) && other_rms_motion <= kCreaseMoveNoise * noise;
+}
+
+bool others_compete(bool crease_pieces_improved, bool one_sheet) { return !crease_pieces_improved || one_sheet; }
+
+double crease_move_limit(double limit, double noise) {
+  const double within = kCreaseMoveNoise * noise;
+  return limit > 0.0 ? std::min(limit, within) : within;
+}
+
 namespace {
 
 // The pieces the curvature already cuts the mesh into, each flat inside (a
@@ -48,6 +81,73 @@ std::optional<Patches> developable_pieces_of(const MeasuredInput& input) {
   return patches;
 }
 
+// Mean |defect| (rad) of the interior vertices on the pieces' borders and of
+// those inside them.
+std::pair<double, double> border_and_inside_defects(const MeasuredInput& input, const std::vector<int>& ids) {
+  const std::vector<bool> border = patch_border_vertices(input.triangles, ids, input.positions.rows());
+  double sums[2] = {0.0, 0.0};
+  Eigen::Index counts[2] = {0, 0};
+  for (Eigen::Index v = 0; v < input.positions.rows(); ++v) {
+    if (!input.measured.interior[static_cast<size_t>(v)]) continue;
+    const int k = border[static_cast<size_t>(v)] ? 0 : 1;
+    sums[k] += std::abs(input.measured.defect_before[v]);
+    ++counts[k];
+  }
+  return {counts[0] > 0 ? sums[0] / static_cast<double>(counts[0]) : 0.0,
+          counts[1] > 0 ? sums[1] / static_cast<double>(counts[1]) : 0.0};
+}
+
+// crease_defect_excess of the interior vertices on the pieces' borders.
+double border_defect_excess(const MeasuredInput& input, const std::vector<int>& ids, double noise) {
+  const std::vector<bool> border = patch_border_vertices(input.triangles, ids, input.positions.rows());
+  std::vector<double> defects, gains;
+  for (Eigen::Index v = 0; v < input.positions.rows(); ++v) {
+    if (!input.measured.interior[static_cast<size_t>(v)] || !border[static_cast<size_t>(v)]) continue;
+    defects.push_back(input.measured.defect_before[v]);
+    gains.push_back(angle_defect_noise_gain(input.positions, input.triangles, input.normals, input.connectivity, v));
+  }
+  return crease_defect_excess(defects, gains, noise);
+}
+
+// The pieces the crease lines of a noisy mesh part it into (a mitred elbow,
+// a tee, a reducer with noise on every vertex), as patches, when the plan
+// takes them (takes_crease_pieces); none when the input is developable
+// already. `noise`: the noise their run's move limit is set by; `excess`:
+// their borders' crease_defect_excess.
+std::optional<Patches> crease_pieces_of(const MeasuredInput& input, const Progress& progress, double& noise,
+                                        double& excess) {
+  const PipelineOptions& options = input.options;
+  if (input.before.mean_abs <= options.developable_threshold || options.segmentation_options.target_patches > 0)
+    return std::nullopt;
+  progress.report(0.02, "crease lines");  // where measure_input left the bar: it never goes back
+  CreasePieces pieces =
+      crease_pieces(input.positions, input.triangles, input.normals, input.areas, input.connectivity, options.threads);
+  const double worst = pieces.fit.empty() ? 0.0 : *std::max_element(pieces.fit.begin(), pieces.fit.end());
+  const auto [border, inside] = border_and_inside_defects(input, pieces.ids);
+  if (!takes_crease_pieces(options.segmentation_options.target_patches, pieces.count, worst, border, inside))
+    return std::nullopt;
+  noise = std::max(pieces.cone_noise, kNoiseFloor * input.measured.stats.average_edge_length);
+  excess = border_defect_excess(input, pieces.ids, noise);
+  return fitted_patches(std::move(pieces.ids), pieces.count, input.normals, input.areas, options);
+}
+
+// What the rule reads of a result and of the input.
+Figures figures_of(const PipelineResult& r) {
+  Figures f;
+  f.flat = r.stats.flat_share_after;
+  f.mean = r.stats.mean_defect_after;
+  f.max = r.stats.max_defect_after;
+  return f;
+}
+
+Figures figures_of(const MeasuredInput& input) {
+  Figures f;
+  f.flat = input.measured.stats.flat_share_before;
+  f.mean = input.before.mean_abs;
+  f.max = input.before.max_abs;
+  return f;
+}
+
 // Of the results of two alternatives, the one the order (select) returns: an
 // improved one over the input returned unchanged; of two improved ones the
 // one that moved the input least of those as developable as the more
@@ -58,16 +158,11 @@ PipelineResult& preferred(const MeasuredInput& input, PipelineResult& first, Pip
   std::vector<Contestant> contestants;
   for (const PipelineResult* r : {&first, &second}) {
     Contestant c;
-    c.figures.flat = r->stats.flat_share_after;
-    c.figures.mean = r->stats.mean_defect_after;
-    c.figures.max = r->stats.max_defect_after;
+    c.figures = figures_of(*r);
     c.motion = motion_of(r->positions, input.positions);
     contestants.push_back(c);
   }
-  Figures input_figures;
-  input_figures.flat = input.measured.stats.flat_share_before;
-  input_figures.mean = input.before.mean_abs;
-  input_figures.max = input.before.max_abs;
+  const Figures input_figures = figures_of(input);
   // Each result passed its own run's roughness test: no second one here (a
   // one-patch polish of a noisy input is rougher than a split run's result
   // and far more developable: a generalized cone on an irregular
@@ -103,14 +198,11 @@ PipelineResult split_finer_if_unchanged(const MeasuredInput& input, Patches patc
   return std::move(chosen);
 }
 
-}  // namespace
-
-PipelineResult run_plan(const MeasuredInput& input, const Progress& progress) {
+// The plan's alternatives after the crease pieces: one patch when one set
+// of curves carries the mesh, else the segmentation's patches (with the
+// second opinion or the finer split).
+PipelineResult run_without_crease_pieces(const MeasuredInput& input, const Progress& progress) {
   const PipelineOptions& options = input.options;
-  if (options.segmentation == 0)
-    return run_patch_alternative(input, one_patch(input.normals, input.areas, options), progress);
-  if (std::optional<Patches> pieces = developable_pieces_of(input))
-    return run_patch_alternative(input, std::move(*pieces), progress);
   Patches single;
   if (options.segmentation == -1 && !input.closed) {
     single = one_patch(input.normals, input.areas, options);
@@ -129,6 +221,34 @@ PipelineResult run_plan(const MeasuredInput& input, const Progress& progress) {
   if (!input.closed || options.segmentation_options.target_patches > 0)
     return run_patch_alternative(input, std::move(patches), progress);
   return split_finer_if_unchanged(input, std::move(patches), progress);
+}
+
+}  // namespace
+
+PipelineResult run_plan(const MeasuredInput& input, const Progress& progress) {
+  const PipelineOptions& options = input.options;
+  if (options.segmentation == 0)
+    return run_patch_alternative(input, one_patch(input.normals, input.areas, options), progress);
+  if (std::optional<Patches> pieces = developable_pieces_of(input))
+    return run_patch_alternative(input, std::move(*pieces), progress);
+  double noise = 0.0, excess = 0.0;
+  if (std::optional<Patches> pieces = crease_pieces_of(input, progress, noise, excess)) {
+    MeasuredInput within = input;
+    within.limit = crease_move_limit(input.limit, noise);
+    within.measured.stats.move_limit = within.limit;
+    if (!crease_pieces_compete(excess)) return run_patch_alternative(within, std::move(*pieces), progress);
+    PipelineResult creased = run_patch_alternative(within, std::move(*pieces), progress.sub(0.0, 0.5));
+    PipelineResult other = run_without_crease_pieces(input, progress.sub(0.5, 1.0));
+    const bool sheet = other.stats.result == ResultKind::improved &&
+                       one_sheet_within_noise(figures_of(other), figures_of(input),
+                                              motion_of(other.positions, input.positions).rms, noise);
+    PipelineResult& chosen = others_compete(creased.stats.result == ResultKind::improved, sheet)
+                                 ? preferred(input, other, creased)
+                                 : creased;
+    chosen.stats.time_total_ms = elapsed_ms(input.start_time);
+    return std::move(chosen);
+  }
+  return run_without_crease_pieces(input, progress);
 }
 
 }  // namespace developable

@@ -5,6 +5,7 @@
 
 #include "core/measures.h"
 #include "core/mesh_connectivity.h"
+#include "crease_meshes.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -16,24 +17,6 @@
 namespace developable {
 namespace {
 
-// A pipe of radius 1 along +z, bent at z = 1 by `turn` (rad) in the x-z plane
-// and going on for 1 along its new axis; the joint ring lies in the mitre
-// plane (it halves the turn). `rows` (odd) rings, the middle one the joint;
-// `cols` columns around, the first at +x (so with cols a multiple of 4 a
-// column sits at y = +-1, where the two cylinders are tangent and the ring's
-// vertex is flat).
-test::Mesh mitred_pipe(int rows, int cols, double turn) {
-  const Eigen::Vector3d a0(0, 0, 1), a1(std::sin(turn), 0, std::cos(turn)), joint(0, 0, 1);
-  const Eigen::Vector3d mitre = (a0 + a1).normalized();
-  return test::grid(rows, cols, true, [&](double u, double v) {
-    const double t = 2.0 * M_PI * v;
-    const Eigen::Vector3d offset(std::cos(t), std::sin(t), 0.0);
-    const double to_mitre = (joint - offset).dot(mitre) / a0.dot(mitre);
-    if (u <= 0.5) return Eigen::Vector3d(offset + (u / 0.5) * to_mitre * a0);
-    return Eigen::Vector3d(offset + to_mitre * a0 + ((u - 0.5) / 0.5) * a1);
-  });
-}
-
 std::optional<std::vector<int>> pieces_of(const test::Mesh& m) {
   const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
   return developable_pieces(m.triangles, vertex_faces(m.triangles, m.positions.rows()), interior,
@@ -43,14 +26,9 @@ std::optional<std::vector<int>> pieces_of(const test::Mesh& m) {
 // Faces below the joint ring (their centroid's z under the mitre plane) in
 // one piece, those above in the other.
 void expect_two_cylinders(const test::Mesh& m, const std::vector<int>& ids, double turn) {
-  const Eigen::Vector3d mitre =
-      (Eigen::Vector3d(0, 0, 1) + Eigen::Vector3d(std::sin(turn), 0, std::cos(turn))).normalized();
   std::set<int> below, above;
-  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (int c = 0; c < 3; ++c) centroid += m.positions.row(m.triangles(f, c)).transpose() / 3.0;
-    ((centroid - Eigen::Vector3d(0, 0, 1)).dot(mitre) < 0 ? below : above).insert(ids[static_cast<size_t>(f)]);
-  }
+  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f)
+    (test::below_mitre(m, f, turn) ? below : above).insert(ids[static_cast<size_t>(f)]);
   EXPECT_EQ(below.size(), 1u);
   EXPECT_EQ(above.size(), 1u);
   EXPECT_NE(*below.begin(), *above.begin());
@@ -61,7 +39,7 @@ TEST(DevelopablePieces, AMitredPipeFallsIntoItsCylinders) {
   for (double degrees : {15.0, 30.0, 60.0}) {
     const double turn = degrees * M_PI / 180.0;
     for (int cols : {23, 24, 32}) {  // 24 and 32: a flat ring vertex at each side
-      const test::Mesh m = mitred_pipe(9, cols, turn);
+      const test::Mesh m = test::mitred_pipe(9, cols, turn);
       const auto ids = pieces_of(m);
       ASSERT_TRUE(ids.has_value()) << degrees << " degrees, " << cols << " columns";
       expect_two_cylinders(m, *ids, turn);
@@ -72,9 +50,9 @@ TEST(DevelopablePieces, AMitredPipeFallsIntoItsCylinders) {
 TEST(DevelopablePieces, EveryPieceNeedsAnInsideVertex) {
   // Three rings: the joint and one ring each side, both on the boundary: the
   // pipe's two pieces have no inside vertex, so there are no pieces.
-  EXPECT_FALSE(pieces_of(mitred_pipe(3, 24, 0.5)).has_value());
+  EXPECT_FALSE(pieces_of(test::mitred_pipe(3, 24, 0.5)).has_value());
   // Five rings: one ring of inside vertices each side of the joint.
-  const test::Mesh m = mitred_pipe(5, 24, 0.5);
+  const test::Mesh m = test::mitred_pipe(5, 24, 0.5);
   const auto ids = pieces_of(m);
   ASSERT_TRUE(ids.has_value());
   expect_two_cylinders(m, *ids, 0.5);

@@ -233,5 +233,52 @@ TEST(Measures, VertexSharesCountFlatRuledAndCrumpledInteriorVertices) {
   EXPECT_EQ(none.flat + none.ruled + none.crumpled, 0.0);
 }
 
+// The noise gain of a vertex's defect: 0 where its star is planar (the
+// defect answers noise to second order only); elsewhere the sum of the
+// squared gradients of its defect, as finite differences measure them; and
+// across a fold it grows with the fold's angle.
+TEST(Measures, AngleDefectNoiseGainIsTheSquaredGradientOfTheDefect) {
+  const auto flat = test::plane(7, 9);
+  const VertexFaces flat_faces = vertex_faces(flat.triangles, flat.positions.rows());
+  const Normals flat_normals = face_normals(flat.positions, flat.triangles);
+  EXPECT_NEAR(angle_defect_noise_gain(flat.positions, flat.triangles, flat_normals, flat_faces, 4 * 9 + 4), 0.0, 1e-20);
+
+  auto noisy = test::cylinder(8, 24);
+  test::add_noise(noisy.positions, 0.02, 5);
+  const VertexFaces faces = vertex_faces(noisy.triangles, noisy.positions.rows());
+  const Normals normals = face_normals(noisy.positions, noisy.triangles);
+  const std::vector<bool> interior = interior_vertices(noisy.positions, noisy.triangles);
+  const Eigen::Index v = 3 * 24 + 5;  // an inner ring's vertex
+  ASSERT_TRUE(interior[static_cast<size_t>(v)]);
+  double squares = 0.0;
+  const double step = 1e-6;
+  for (Eigen::Index u = 0; u < noisy.positions.rows(); ++u) {
+    for (int k = 0; k < 3; ++k) {
+      Positions plus = noisy.positions, minus = noisy.positions;
+      plus(u, k) += step;
+      minus(u, k) -= step;
+      const double d =
+          (angle_defects(plus, noisy.triangles, interior)[v] - angle_defects(minus, noisy.triangles, interior)[v]) /
+          (2.0 * step);
+      squares += d * d;
+    }
+  }
+  const double gain = angle_defect_noise_gain(noisy.positions, noisy.triangles, normals, faces, v);
+  EXPECT_GT(gain, 0.0);
+  EXPECT_NEAR(gain, squares, 1e-6 * squares);
+
+  double previous = 0.0;
+  for (const double angle : {0.3, 0.9, 1.5}) {
+    const auto m = test::grid(9, 9, false, [=](double a, double b) {
+      if (a <= 0.5) return Eigen::Vector3d(b, a, 0.0);
+      return Eigen::Vector3d(b, 0.5 + (a - 0.5) * std::cos(angle), (a - 0.5) * std::sin(angle));
+    });
+    const double g = angle_defect_noise_gain(m.positions, m.triangles, face_normals(m.positions, m.triangles),
+                                             vertex_faces(m.triangles, m.positions.rows()), 4 * 9 + 4);
+    EXPECT_GT(g, previous) << "fold angle " << angle;
+    previous = g;
+  }
+}
+
 }  // namespace
 }  // namespace developable

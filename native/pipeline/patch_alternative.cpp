@@ -7,6 +7,7 @@
 #include "pipeline/polish_run.h"
 #include "pipeline/selection.h"
 #include "pipeline/target_field.h"
+#include "pipeline/thinned_pieces.h"
 
 #include <algorithm>
 #include <cmath>
@@ -118,6 +119,28 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
   Rejections rejected = judge.rejected();
   if (!choice.improved && run.piecewise) rejected.developable_patches = developable_as_split(run);
   finish(run, choice, unchanged_reason(rejected, stats.flat_share_before), rejected, result, progress);
+  return result;
+}
+
+PipelineResult run_thinned_alternative(const MeasuredInput& input, const Progress& progress) {
+  ThinnedPieces thinned = thinned_pieces(input, progress.sub(0.0, 0.95));
+  Patches patches = fitted_patches(std::move(thinned.pieces), thinned.count, input.normals, input.areas, input.options);
+  const PatchRun run = patch_run(input, patches);
+  PipelineResult result = input.measured;
+  result.stats.patches = patches.count;
+  result.patch_ids = patches.ids;
+  result.curves = patches.curves;
+  result.target_normals = patches.targets;
+  Judge judge = judge_of(run);
+  Choice choice = Choice::input(input, judge.input());
+  const Measured now = judge.measure(thinned.positions, face_normals(thinned.positions, input.triangles));
+  if (judge.admissible(now) && now.figures.score < choice.best_score) {
+    choice.keep(thinned.positions, now, ResultOrigin::thinned_pieces);
+    choice.polish_iterations = thinned.polish_iterations;
+  }
+  const Rejections rejected = judge.rejected();
+  finish(run, choice, unchanged_reason(rejected, result.stats.flat_share_before), rejected, result,
+         progress.sub(0.95, 1.0));
   return result;
 }
 

@@ -20,4 +20,10 @@ namespace developable {
 // (cancelled, numerical_failure).
 PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches, const Progress& progress);
 
+// The alternative of the thinned-pieces generator (thinned_pieces.h): its
+// pieces as the patches, its mesh as the one candidate, held to the
+// admissibility rule (selection.h) like any other; the input when it is not
+// admissible. Throws what the stages throw.
+PipelineResult run_thinned_alternative(const MeasuredInput& input, const Progress& progress);
+
 }  // namespace developable

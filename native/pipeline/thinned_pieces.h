@@ -1,0 +1,64 @@
+// The thinned-pieces generator (beyond the paper; issue 35): a closed,
+// doubly curved object made developable as ruled pieces meeting at seams,
+// instead of flat by triangle-scale zigzags.
+//
+//   1. thinning: the deformation step (deformation.h, decoupled) toward the
+//      local Gauss-image thinning targets (ideal_curve/gauss_thinning.h, no
+//      pieces), kThinningIterations steps, the cone shrinking from
+//      kThinningConeStart to kThinningConeEnd, every vertex within
+//      kThinningLimitShare of the move limit; a step's faces that turn over or
+//      collapse keep their corners (ring by ring);
+//   2. pieces: the thinned normals split where they jump by more than
+//      kPieceCrease (segmentation/crease_pieces.h), small pieces merged
+//      where no edge of their border is creased beyond the crease guard
+//      over the input; a crease that ends inside a piece (its edges inside
+//      creased beyond the guard) has the corners of its faces put back where
+//      the input has them, ring by ring, so the piece holds none;
+//   3. thinning again inside the pieces (kPieceThinningIterations steps, no
+//      edge inside a piece creased beyond the run's crease guard);
+//   4. the angle-defect polish (defect_polish.h) of the vertices inside the
+//      pieces, within the move limit of the input, guarded against creases
+//      and against crumpling (PolishOptions::keep_ruled: no vertex inside a
+//      piece less ruled than kRuledSpread or than it was).
+// Every step keeps no face turned over or collapsed. The result competes
+// under the one rule (selection.h) through run_thinned_alternative
+// (patch_alternative.h); docs/segmentation.md, "Thinned pieces", has the
+// figures.
+#pragma once
+
+#include "core/types.h"
+#include "pipeline/run_context.h"
+
+#include <vector>
+
+namespace developable {
+
+inline constexpr int kThinningIterations = 100;
+inline constexpr int kPieceThinningIterations = 60;
+inline constexpr double kThinningConeStart = 25.0 * M_PI / 180.0;
+inline constexpr double kThinningConeEnd = 5.0 * M_PI / 180.0;
+inline constexpr double kThinningConeShrink = 0.95;  // per step
+// The neighbourhood of the thinning targets, in average edge lengths.
+inline constexpr double kThinningRadius = 3.0;
+// The thinning stays within this share of the move limit, leaving the polish room.
+inline constexpr double kThinningLimitShare = 0.9;
+// Where the thinned normals jump by more than this a seam runs (rad). At most
+// the segmented crease guard (kSegmentedCreaseGrowth), so that no edge
+// inside a piece starts creased beyond it.
+inline constexpr double kPieceCrease = 20.0 * M_PI / 180.0;
+
+// The thinned mesh and its pieces.
+struct ThinnedPieces {
+  Positions positions;      // within input.limit of the input; the input when limit <= 0
+  std::vector<int> pieces;  // per face, 0 .. count-1
+  int count = 0;
+  int polish_iterations = 0;
+};
+
+// Runs stages 1-4 on `input` (closed or open; pins kept). With no move limit
+// (input.limit <= 0) it returns the input as one piece. progress: 0..1 of the
+// caller's range. Throws EngineError(cancelled) through `progress`,
+// EngineError(numerical_failure) when a solve fails.
+ThinnedPieces thinned_pieces(const MeasuredInput& input, const Progress& progress);
+
+}  // namespace developable

@@ -122,9 +122,11 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
   return result;
 }
 
-PipelineResult run_thinned_alternative(const MeasuredInput& input, const Progress& progress) {
-  ThinnedPieces thinned = thinned_pieces(input, progress.sub(0.0, 0.95));
-  Patches patches = fitted_patches(std::move(thinned.pieces), thinned.count, input.normals, input.areas, input.options);
+PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positions& thinned, PieceSource source,
+                                       const Progress& progress) {
+  ThinnedPieces candidate = thinned_pieces(input, thinned, source, progress.sub(0.0, 0.95));
+  Patches patches =
+      fitted_patches(std::move(candidate.pieces), candidate.count, input.normals, input.areas, input.options);
   const PatchRun run = patch_run(input, patches);
   PipelineResult result = input.measured;
   result.stats.patches = patches.count;
@@ -133,10 +135,17 @@ PipelineResult run_thinned_alternative(const MeasuredInput& input, const Progres
   result.target_normals = patches.targets;
   Judge judge = judge_of(run);
   Choice choice = Choice::input(input, judge.input());
-  const Measured now = judge.measure(thinned.positions, face_normals(thinned.positions, input.triangles));
-  if (judge.admissible(now) && now.figures.score < choice.best_score) {
-    choice.keep(thinned.positions, now, ResultOrigin::thinned_pieces);
-    choice.polish_iterations = thinned.polish_iterations;
+  const Normals normals = face_normals(candidate.positions, input.triangles);
+  const Measured now = judge.measure(candidate.positions, normals);
+  const VertexShares shares =
+      vertex_shares(now.defects,
+                    ruling_spreads(candidate.positions, input.triangles, normals, input.connectivity,
+                                   input.measured.interior),
+                    input.measured.interior);
+  const bool crumpled = shares.crumpled > input.measured.stats.shares_before.crumpled + kThinnedCrumpleSlack;
+  if (judge.admissible(now) && now.figures.score < choice.best_score && !crumpled) {
+    choice.keep(candidate.positions, now, ResultOrigin::thinned_pieces);
+    choice.polish_iterations = candidate.polish_iterations;
   }
   const Rejections rejected = judge.rejected();
   finish(run, choice, unchanged_reason(rejected, result.stats.flat_share_before), rejected, result,

@@ -1,8 +1,8 @@
 #include "pipeline/thinned_pieces.h"
 
 #include "core/measures.h"
-#include "deformation/defect_polish.h"
 #include "deformation/deformation.h"
+#include "deformation/ruled_polish.h"
 #include "deformation/move_limit.h"
 #include "ideal_curve/gauss_thinning.h"
 #include "pipeline/patches.h"
@@ -116,41 +116,55 @@ void thin(const MeasuredInput& input, NormalGuidedDeformation& deformation, cons
 
 }  // namespace
 
-ThinnedPieces thinned_pieces(const MeasuredInput& input, const Progress& progress) {
+Positions thin_whole(const MeasuredInput& input, const Progress& progress) {
+  Positions thinned = input.positions;
+  if (!(input.limit > 0.0)) return thinned;
+  NormalGuidedDeformation deformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(input.triangles.rows()),
+                                      input.options.omega, kRefitCentroidWeight, Formulation::decoupled,
+                                      input.normals, input.options.threads);
+  const StepGuard free_guard(input, CreaseGuard(input.triangles, input.normals, {}, 0.0));
+  thin(input, deformation, free_guard, {}, kThinningIterations, thinned, progress);
+  return thinned;
+}
+
+ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinned, PieceSource source,
+                             const Progress& progress) {
   ThinnedPieces out;
   const Eigen::Index m = input.triangles.rows();
-  out.positions = input.positions;
+  out.positions = thinned;
   out.pieces.assign(static_cast<size_t>(m), 0);
   out.count = 1;
   if (!(input.limit > 0.0)) return out;
+  const Normals thinned_normals = face_normals(thinned, input.triangles);
+  if (source == PieceSource::creases) {
+    const int min_faces = static_cast<int>(std::max<Eigen::Index>(kSmallPieceFaces, m / kSmallPieceShare));
+    out.pieces = crease_pieces(input.triangles, input.connectivity, thinned_normals, kPieceCrease, min_faces,
+                               input.normals, kSegmentedCreaseGrowth);
+  } else {
+    out.pieces = segmented_patches(thinned, input.triangles, thinned_normals, face_areas(thinned, input.triangles),
+                                   input.connectivity, input.options, progress.sub(0.0, 0.05))
+                     .ids;
+  }
+  out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
+
   NormalGuidedDeformation deformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(m), input.options.omega,
                                       kRefitCentroidWeight, Formulation::decoupled, input.normals,
                                       input.options.threads);
-  const StepGuard free_guard(input, CreaseGuard(input.triangles, input.normals, {}, 0.0));
-  thin(input, deformation, free_guard, {}, kThinningIterations, out.positions, progress.sub(0.0, 0.5));
-
-  const int min_faces = static_cast<int>(std::max<Eigen::Index>(kSmallPieceFaces, m / kSmallPieceShare));
-  const Normals thinned_normals = face_normals(out.positions, input.triangles);
-  out.pieces = crease_pieces(input.triangles, input.connectivity, thinned_normals,
-                             kPieceCrease, min_faces, input.normals, kSegmentedCreaseGrowth);
-  out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
-
   const StepGuard piece_guard(input,
                               CreaseGuard(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth));
   piece_guard.heal(out.positions);
-  thin(input, deformation, piece_guard, out.pieces, kPieceThinningIterations, out.positions, progress.sub(0.5, 0.8));
+  thin(input, deformation, piece_guard, out.pieces, kPieceThinningIterations, out.positions, progress.sub(0.05, 0.5));
 
   const std::vector<bool> border = patch_border_vertices(input.triangles, out.pieces, input.positions.rows());
   std::vector<bool> inside = input.measured.interior;
   for (size_t v = 0; v < inside.size(); ++v) inside[v] = inside[v] && !border[v] && !input.pinned[v];
-  PolishOptions polish;
-  polish.limit = input.limit;
-  polish.crease_growth = kSegmentedCreaseGrowth;
-  polish.crease_groups = out.pieces;
-  polish.keep_ruled = true;
-  polish.active_defect = std::min(polish.active_defect, 0.005 * input.before.mean_abs);
-  const PolishResult polished = polish_defects(out.positions, input.positions, input.normals, input.triangles, inside,
-                                               input.pinned, polish, progress.sub(0.8, 1.0));
+  RuledPolishOptions ruled;
+  ruled.max_iterations = kThinnedPolishIterations;
+  ruled.limit = input.limit;
+  ruled.crease_growth = kSegmentedCreaseGrowth;
+  ruled.crease_groups = out.pieces;
+  const RuledPolishResult polished = polish_ruled(out.positions, input.positions, input.normals, input.triangles,
+                                                  inside, input.pinned, ruled, progress.sub(0.5, 1.0));
   out.positions = polished.positions;
   out.polish_iterations = polished.iterations;
   return out;

@@ -1,4 +1,4 @@
-// thinned_pieces.h: on a closed doubly curved mesh the generator keeps every
+// thinned_pieces.h: on a closed doubly curved mesh both piece sources keep every
 // vertex within the move limit, turns no face over, creases no edge inside a
 // piece beyond the crease guard, leaves no more crumpled vertices than the
 // input had (beyond a small slack), and its result, held to the one rule,
@@ -55,7 +55,11 @@ TEST(ThinnedPieces, KeepsTheLimitTheFacesAndThePiecesUncreased) {
   const EllipsoidRun run;
   const MeasuredInput& input = run.input;
   ASSERT_TRUE(input.closed);
-  const ThinnedPieces thinned = thinned_pieces(input, {});
+  const Positions whole = thin_whole(input, {});
+  for (Eigen::Index v = 0; v < input.positions.rows(); ++v)
+    EXPECT_LE((whole.row(v) - input.positions.row(v)).norm(), kThinningLimitShare * input.limit * (1.0 + 1e-12));
+  for (PieceSource source : {PieceSource::creases, PieceSource::segmentation}) {
+  const ThinnedPieces thinned = thinned_pieces(input, whole, source, {});
   ASSERT_EQ(thinned.positions.rows(), input.positions.rows());
   ASSERT_EQ(static_cast<Eigen::Index>(thinned.pieces.size()), input.triangles.rows());
   EXPECT_GT(thinned.count, 1);
@@ -68,15 +72,17 @@ TEST(ThinnedPieces, KeepsTheLimitTheFacesAndThePiecesUncreased) {
   EXPECT_TRUE(guard.creased_faces(after).empty());
   const VertexShares before = shares_of(input.positions, input.triangles, run.table, input.measured.interior);
   const VertexShares now = shares_of(thinned.positions, input.triangles, run.table, input.measured.interior);
-  EXPECT_LE(now.crumpled, before.crumpled + 0.02);
+  EXPECT_LE(now.crumpled, before.crumpled + kThinnedCrumpleSlack);
   EXPECT_GT(now.ruled, before.ruled);  // flat and ruled share
   // Deterministic.
-  EXPECT_EQ(thinned_pieces(input, {}).positions, thinned.positions);
+  EXPECT_EQ(thinned_pieces(input, whole, source, {}).positions, thinned.positions);
+  }
 }
 
 TEST(ThinnedPieces, ItsAlternativeIsHeldToTheOneRule) {
   const EllipsoidRun run;
-  const PipelineResult r = run_thinned_alternative(run.input, {});
+  const PipelineResult r =
+      run_thinned_alternative(run.input, thin_whole(run.input, {}), PieceSource::segmentation, {});
   EXPECT_EQ(static_cast<Eigen::Index>(r.patch_ids.size()), run.input.triangles.rows());
   if (r.stats.result == ResultKind::improved) {
     EXPECT_EQ(r.stats.origin, ResultOrigin::thinned_pieces);
@@ -98,7 +104,9 @@ TEST(ThinnedPieces, WithoutAMoveLimitReturnsTheInput) {
   const MeasuredInput input = measure_input(m.positions, m.triangles, table,
                                             std::vector<bool>(static_cast<size_t>(m.positions.rows()), false),
                                             options, Clock::now());
-  const ThinnedPieces thinned = thinned_pieces(input, {});
+  const Positions whole = thin_whole(input, {});
+  EXPECT_EQ(whole, m.positions);
+  const ThinnedPieces thinned = thinned_pieces(input, whole, PieceSource::creases, {});
   EXPECT_EQ(thinned.positions, m.positions);
   EXPECT_EQ(thinned.count, 1);
 }

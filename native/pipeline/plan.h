@@ -2,8 +2,10 @@
 // returns. One patch when one set of ideal curves carries the whole Gauss
 // image; the pieces the curvature already cuts the mesh into; else the
 // segmentation's patches, with a second opinion (the same mesh as one patch)
-// on small open meshes and a finer split when a closed mesh came back
-// unchanged. The decisions are pure functions (tests/unit/plan_test.cpp).
+// on small open meshes, a finer split when a closed mesh came back unchanged
+// and, beside the segmented run of a closed mesh, the thinned-pieces
+// generator's candidates (thinned_pieces.h). The decisions are pure
+// functions (tests/unit/plan_test.cpp).
 #pragma once
 
 #include "pipeline/options.h"

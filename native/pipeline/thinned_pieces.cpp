@@ -6,7 +6,7 @@
 #include "deformation/move_limit.h"
 #include "ideal_curve/gauss_thinning.h"
 #include "pipeline/patches.h"
-#include "segmentation/crease_pieces.h"
+#include "segmentation/normal_jump_pieces.h"
 
 #include <Eigen/Geometry>
 
@@ -138,7 +138,7 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   const Normals thinned_normals = face_normals(thinned, input.triangles);
   if (source == PieceSource::creases) {
     const int min_faces = static_cast<int>(std::max<Eigen::Index>(kSmallPieceFaces, m / kSmallPieceShare));
-    out.pieces = crease_pieces(input.triangles, input.connectivity, thinned_normals, kPieceCrease, min_faces,
+    out.pieces = normal_jump_pieces(input.triangles, input.connectivity, thinned_normals, kPieceCrease, min_faces,
                                input.normals, kSegmentedCreaseGrowth);
   } else {
     out.pieces = segmented_patches(thinned, input.triangles, thinned_normals, face_areas(thinned, input.triangles),

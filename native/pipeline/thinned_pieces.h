@@ -10,7 +10,7 @@
 //      collapse keep their corners (ring by ring);
 //   2. pieces, from one of two sources (PieceSource), each a candidate:
 //      the thinned normals split where they jump by more than kPieceCrease
-//      (segmentation/crease_pieces.h), small pieces merged where no edge of
+//      (segmentation/normal_jump_pieces.h), small pieces merged where no edge of
 //      their border is creased beyond the crease guard over the input; or
 //      the segmentation (segmentation.h) of the thinned mesh, whose cone fits
 //      find the ruled bands the thinning made. An edge inside a piece
@@ -60,7 +60,7 @@ inline constexpr int kThinnedPolishIterations = 60;
 
 // Where the pieces come from.
 enum class PieceSource {
-  creases,       // crease_pieces of the thinned normals (kPieceCrease)
+  creases,       // normal_jump_pieces of the thinned normals (kPieceCrease)
   segmentation,  // the segmentation (segmentation.h) of the thinned mesh
 };
 

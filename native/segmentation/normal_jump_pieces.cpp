@@ -1,4 +1,4 @@
-#include "segmentation/crease_pieces.h"
+#include "segmentation/normal_jump_pieces.h"
 
 #include "core/union_find.h"
 
@@ -49,7 +49,7 @@ std::vector<int> numbered(std::vector<int> labels) {
 
 }  // namespace
 
-std::vector<int> crease_pieces(const Triangles& triangles, const VertexFaces& connectivity, const Normals& normals,
+std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFaces& connectivity, const Normals& normals,
                                double crease, int min_faces, const Normals& reference, double growth) {
   const Eigen::Index m = triangles.rows();
   if (!(crease >= 0.0) || min_faces < 1)

@@ -37,7 +37,7 @@ namespace developable {
 // lowest face; every piece is edge-connected. Deterministic. Throws
 // EngineError(invalid_argument) for a negative crease, min_faces < 1 or
 // sizes that disagree.
-std::vector<int> crease_pieces(const Triangles& triangles, const VertexFaces& connectivity, const Normals& normals,
+std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFaces& connectivity, const Normals& normals,
                                double crease, int min_faces, const Normals& reference = Normals(),
                                double growth = 0.0);
 

@@ -1,8 +1,8 @@
-// crease_pieces.h: a cube falls into its six sides, a smooth cylinder stays
+// normal_jump_pieces.h: a cube falls into its six sides, a smooth cylinder stays
 // one piece, a folded sheet parts on its fold; small pieces merge into the
 // neighbour with the smoothest border, never across a border the reference
 // normals' guard would call creased.
-#include "segmentation/crease_pieces.h"
+#include "segmentation/normal_jump_pieces.h"
 
 #include "core/measures.h"
 #include "core/mesh_connectivity.h"
@@ -21,7 +21,7 @@ int count_of(const std::vector<int>& pieces) { return 1 + *std::max_element(piec
 std::vector<int> pieces_of(const test::Mesh& m, double crease, int min_faces, const Normals& reference = Normals(),
                            double growth = 0.0) {
   const VertexFaces table = vertex_faces(m.triangles, m.positions.rows());
-  return crease_pieces(m.triangles, table, face_normals(m.positions, m.triangles), crease, min_faces, reference, growth);
+  return normal_jump_pieces(m.triangles, table, face_normals(m.positions, m.triangles), crease, min_faces, reference, growth);
 }
 
 // The unit square folded along x = 0.5 by `angle` (rad) about the y axis.
@@ -33,7 +33,7 @@ test::Mesh folded(int rows, int cols, double angle) {
   });
 }
 
-TEST(CreasePieces, ACubeFallsIntoItsSides) {
+TEST(NormalJumpPieces, ACubeFallsIntoItsSides) {
   const test::Mesh m = test::cube();
   const std::vector<int> pieces = pieces_of(m, 25.0 * M_PI / 180.0, 1);
   EXPECT_EQ(count_of(pieces), 6);
@@ -41,12 +41,12 @@ TEST(CreasePieces, ACubeFallsIntoItsSides) {
   EXPECT_EQ(pieces[0], 0);  // numbered by their lowest face
 }
 
-TEST(CreasePieces, ASmoothCylinderIsOnePiece) {
+TEST(NormalJumpPieces, ASmoothCylinderIsOnePiece) {
   const std::vector<int> pieces = pieces_of(test::cylinder(8, 48), 20.0 * M_PI / 180.0, 1);
   EXPECT_EQ(count_of(pieces), 1);
 }
 
-TEST(CreasePieces, AFoldPartsASheet) {
+TEST(NormalJumpPieces, AFoldPartsASheet) {
   const test::Mesh m = folded(6, 11, 60.0 * M_PI / 180.0);
   const std::vector<int> pieces = pieces_of(m, 20.0 * M_PI / 180.0, 1);
   ASSERT_EQ(count_of(pieces), 2);
@@ -59,7 +59,7 @@ TEST(CreasePieces, AFoldPartsASheet) {
   EXPECT_EQ(count_of(pieces_of(folded(6, 11, 10.0 * M_PI / 180.0), 20.0 * M_PI / 180.0, 1)), 1);
 }
 
-TEST(CreasePieces, SmallPiecesMergeIntoTheSmoothestNeighbour) {
+TEST(NormalJumpPieces, SmallPiecesMergeIntoTheSmoothestNeighbour) {
   // A cube: each side (2 faces) is small against min_faces 3; they merge
   // until one piece is left (every border is a right angle).
   EXPECT_EQ(count_of(pieces_of(test::cube(), 25.0 * M_PI / 180.0, 3)), 1);
@@ -70,17 +70,17 @@ TEST(CreasePieces, SmallPiecesMergeIntoTheSmoothestNeighbour) {
   Normals flat(input.rows(), 3);
   flat.rowwise() = Eigen::RowVector3d(0, 0, 1);
   const VertexFaces table = vertex_faces(m.triangles, m.positions.rows());
-  EXPECT_EQ(count_of(crease_pieces(m.triangles, table, input, 0.3, 3, flat, 0.3)), 6);
-  EXPECT_EQ(count_of(crease_pieces(m.triangles, table, input, 0.3, 3, input, 0.3)), 1);
+  EXPECT_EQ(count_of(normal_jump_pieces(m.triangles, table, input, 0.3, 3, flat, 0.3)), 6);
+  EXPECT_EQ(count_of(normal_jump_pieces(m.triangles, table, input, 0.3, 3, input, 0.3)), 1);
 }
 
-TEST(CreasePieces, RefusesBadArguments) {
+TEST(NormalJumpPieces, RefusesBadArguments) {
   const test::Mesh m = test::cube();
   const VertexFaces table = vertex_faces(m.triangles, m.positions.rows());
   const Normals normals = face_normals(m.positions, m.triangles);
-  EXPECT_THROW(crease_pieces(m.triangles, table, normals, -0.1, 1), EngineError);
-  EXPECT_THROW(crease_pieces(m.triangles, table, normals, 0.1, 0), EngineError);
-  EXPECT_THROW(crease_pieces(m.triangles, table, normals.topRows(3), 0.1, 1), EngineError);
+  EXPECT_THROW(normal_jump_pieces(m.triangles, table, normals, -0.1, 1), EngineError);
+  EXPECT_THROW(normal_jump_pieces(m.triangles, table, normals, 0.1, 0), EngineError);
+  EXPECT_THROW(normal_jump_pieces(m.triangles, table, normals.topRows(3), 0.1, 1), EngineError);
 }
 
 }  // namespace

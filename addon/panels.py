@@ -62,6 +62,7 @@ ORIGIN_WORDS = {
     "smoothed_input_polish": "smoothing, then polish",
     "smoothed_step_polish": "smoothing, then polish",
     "projected_input": "smoothing, then projection",
+    "thinned_pieces": "thinning into ruled pieces, then polish",
 }
 STOP_WORDS = {
     "already developable": "there was nothing to do",

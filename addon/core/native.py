@@ -76,6 +76,7 @@ ORIGIN_NAMES = {
     5: "smoothed_input_polish",
     6: "smoothed_step_polish",
     7: "projected_input",
+    8: "thinned_pieces",
 }
 
 # Least motion's candidates: the polish of the input itself, or of its smoothing.

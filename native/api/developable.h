@@ -123,7 +123,8 @@ enum {
   DEV_ORIGIN_INPUT_POLISH = 4,          /* least motion: the angle-defect polish of the input itself */
   DEV_ORIGIN_SMOOTHED_INPUT_POLISH = 5, /* ... of the input with its noise smoothed */
   DEV_ORIGIN_SMOOTHED_STEP_POLISH = 6,  /* ... of that after one deformation step */
-  DEV_ORIGIN_PROJECTED_INPUT = 7        /* ... the input projected onto developable meshes from its smoothing */
+  DEV_ORIGIN_PROJECTED_INPUT = 7,       /* ... the input projected onto developable meshes from its smoothing */
+  DEV_ORIGIN_THINNED_PIECES = 8         /* ruled pieces from the thinned Gauss image (closed meshes) */
 };
 
 /* Figures of an improved result that a user sees worse than the input's (dev_stats.worse_figures,

@@ -7,6 +7,7 @@
 #include "pipeline/polish_run.h"
 #include "pipeline/selection.h"
 #include "pipeline/target_field.h"
+#include "pipeline/thinned_pieces.h"
 
 #include <algorithm>
 #include <cmath>
@@ -118,6 +119,37 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
   Rejections rejected = judge.rejected();
   if (!choice.improved && run.piecewise) rejected.developable_patches = developable_as_split(run);
   finish(run, choice, unchanged_reason(rejected, stats.flat_share_before), rejected, result, progress);
+  return result;
+}
+
+PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positions& thinned, PieceSource source,
+                                       const Progress& progress) {
+  ThinnedPieces candidate = thinned_pieces(input, thinned, source, progress.sub(0.0, 0.95));
+  Patches patches =
+      fitted_patches(std::move(candidate.pieces), candidate.count, input.normals, input.areas, input.options);
+  const PatchRun run = patch_run(input, patches);
+  PipelineResult result = input.measured;
+  result.stats.patches = patches.count;
+  result.patch_ids = patches.ids;
+  result.curves = patches.curves;
+  result.target_normals = patches.targets;
+  Judge judge = judge_of(run);
+  Choice choice = Choice::input(input, judge.input());
+  const Normals normals = face_normals(candidate.positions, input.triangles);
+  const Measured now = judge.measure(candidate.positions, normals);
+  const VertexShares shares =
+      vertex_shares(now.defects,
+                    ruling_spreads(candidate.positions, input.triangles, normals, input.connectivity,
+                                   input.measured.interior),
+                    input.measured.interior);
+  const bool crumpled = shares.crumpled > input.measured.stats.shares_before.crumpled + kThinnedCrumpleSlack;
+  if (judge.admissible(now) && now.figures.score < choice.best_score && !crumpled) {
+    choice.keep(candidate.positions, now, ResultOrigin::thinned_pieces);
+    choice.polish_iterations = candidate.polish_iterations;
+  }
+  const Rejections rejected = judge.rejected();
+  finish(run, choice, unchanged_reason(rejected, result.stats.flat_share_before), rejected, result,
+         progress.sub(0.95, 1.0));
   return result;
 }
 

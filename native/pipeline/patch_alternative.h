@@ -9,6 +9,7 @@
 #include "pipeline/patches.h"
 #include "pipeline/run_context.h"
 #include "pipeline/run_result.h"
+#include "pipeline/thinned_pieces.h"
 
 namespace developable {
 
@@ -19,5 +20,20 @@ namespace developable {
 // "developable piecewise". Throws what the stages throw
 // (cancelled, numerical_failure).
 PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches, const Progress& progress);
+
+// How many points (share of the interior vertices) more crumpled (flat, not
+// ruled: vertex_shares in measures.h) than the input a thinned-pieces
+// candidate may be: its promise is developability that is not bought by
+// zigzags (issue 35 asks for at most 3 % inside pieces).
+inline constexpr double kThinnedCrumpleSlack = 0.03;
+
+// An alternative of the thinned-pieces generator (thinned_pieces.h) from
+// the thinned mesh `thinned` (thin_whole) with the pieces of `source`: its
+// pieces as the patches, its mesh as the one candidate, held to the
+// admissibility rule (selection.h) like any other and to
+// kThinnedCrumpleSlack; the input when either turns it away. Throws what
+// the stages throw.
+PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positions& thinned, PieceSource source,
+                                       const Progress& progress);
 
 }  // namespace developable

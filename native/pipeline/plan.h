@@ -4,8 +4,10 @@
 // crease lines of a noisy mesh part it into (beside the alternatives below
 // where the input may be one developable sheet); else the segmentation's
 // patches, with a second opinion (the same mesh as one patch) on small open
-// meshes and a finer split when a closed mesh came back unchanged. The
-// decisions are pure functions (tests/unit/plan_test.cpp).
+// meshes, a finer split when a closed mesh came back unchanged and, beside
+// the segmented run of a closed mesh, the thinned-pieces generator's
+// candidates (thinned_pieces.h). The decisions are pure functions
+// (tests/unit/plan_test.cpp).
 #pragma once
 
 #include "pipeline/options.h"

@@ -156,6 +156,8 @@ const char* origin_name(int32_t origin) {
       return "smoothed_step_polish";
     case DEV_ORIGIN_PROJECTED_INPUT:
       return "projected_input";
+    case DEV_ORIGIN_THINNED_PIECES:
+      return "thinned_pieces";
     default:
       return "input";
   }

@@ -1,12 +1,15 @@
 // Small exact meshes for the unit tests (plane grid, cylinder, cone, cube,
-// octahedron), built in code so that each test states what it runs on.
+// octahedron, subdivided-octahedron sphere), built in code so that each test states what it runs on.
 #pragma once
 
 #include "core/types.h"
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <vector>
 #include <random>
 
 namespace developable::test {
@@ -76,6 +79,41 @@ inline Mesh cube() {
       2, 6, 7, 2, 7, 3,             // y = 1
       0, 4, 6, 0, 6, 2,             // x = 0
       1, 3, 7, 1, 7, 5;             // x = 1
+  return m;
+}
+
+// A closed sphere of radius 1 around the origin: an octahedron subdivided
+// `levels` times (8 * 4^levels faces), its vertices pushed onto the sphere.
+inline Mesh sphere(int levels) {
+  Mesh m;
+  m.positions.resize(6, 3);
+  m.positions << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  m.triangles.resize(8, 3);
+  m.triangles << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  for (int level = 0; level < levels; ++level) {
+    std::vector<Eigen::RowVector3d> points;
+    for (Eigen::Index v = 0; v < m.positions.rows(); ++v) points.push_back(m.positions.row(v));
+    std::map<std::pair<int, int>, int> middle;
+    const auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = middle.find(key);
+      if (it != middle.end()) return it->second;
+      points.push_back((points[static_cast<size_t>(a)] + points[static_cast<size_t>(b)]).normalized());
+      return middle[key] = static_cast<int>(points.size()) - 1;
+    };
+    Triangles next(4 * m.triangles.rows(), 3);
+    for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {
+      const int a = m.triangles(f, 0), b = m.triangles(f, 1), c = m.triangles(f, 2);
+      const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
+      next.row(4 * f) << a, ab, ca;
+      next.row(4 * f + 1) << ab, b, bc;
+      next.row(4 * f + 2) << ca, bc, c;
+      next.row(4 * f + 3) << ab, bc, ca;
+    }
+    m.triangles = next;
+    m.positions.resize(static_cast<Eigen::Index>(points.size()), 3);
+    for (size_t v = 0; v < points.size(); ++v) m.positions.row(static_cast<Eigen::Index>(v)) = points[v];
+  }
   return m;
 }
 

@@ -1,0 +1,106 @@
+#include "ideal_curve/gauss_thinning.h"
+
+#include "core/concurrent_jobs.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace developable {
+namespace {
+
+// Faces per chunk of the parallel loop (fixed, so the result does not depend
+// on the thread count).
+constexpr Eigen::Index kChunk = 4096;
+// The Gaussian weight's width in cones: exp(-(angle / (kConeWidth cone))^2).
+constexpr double kConeWidth = 2.0;
+
+}  // namespace
+
+GaussThinning::GaussThinning(const Positions& positions, const Triangles& triangles, double radius,
+                             const std::vector<int>& pieces) {
+  const Eigen::Index m = triangles.rows();
+  if (!(radius > 0.0) || !std::isfinite(radius))
+    throw EngineError(Status::invalid_argument, "gauss thinning: the radius must be positive");
+  if (!pieces.empty() && static_cast<Eigen::Index>(pieces.size()) != m)
+    throw EngineError(Status::invalid_argument, "gauss thinning: one piece id per face");
+  Positions centroids(m, 3);
+  for (Eigen::Index f = 0; f < m; ++f)
+    centroids.row(f) = (positions.row(triangles(f, 0)) + positions.row(triangles(f, 1)) +
+                        positions.row(triangles(f, 2))) / 3.0;
+  // A grid of cells of side `radius`: each face's neighbours are in the 27
+  // cells around its own. Cells are keyed and sorted, not hashed, so the
+  // lists come out the same on every run.
+  const Eigen::RowVector3d low = m > 0 ? Eigen::RowVector3d(centroids.colwise().minCoeff()) : Eigen::RowVector3d::Zero();
+  std::array<std::int64_t, 3> dims{1, 1, 1};
+  std::vector<std::array<std::int64_t, 3>> cell(static_cast<size_t>(m));
+  for (Eigen::Index f = 0; f < m; ++f)
+    for (int d = 0; d < 3; ++d) {
+      cell[static_cast<size_t>(f)][static_cast<size_t>(d)] =
+          static_cast<std::int64_t>(std::floor((centroids(f, d) - low[d]) / radius));
+      dims[static_cast<size_t>(d)] = std::max(dims[static_cast<size_t>(d)], cell[static_cast<size_t>(f)][static_cast<size_t>(d)] + 1);
+    }
+  const auto key = [&](std::int64_t x, std::int64_t y, std::int64_t z) { return (x * dims[1] + y) * dims[2] + z; };
+  std::vector<std::pair<std::int64_t, int>> keyed(static_cast<size_t>(m));
+  for (Eigen::Index f = 0; f < m; ++f) {
+    const auto& c = cell[static_cast<size_t>(f)];
+    keyed[static_cast<size_t>(f)] = {key(c[0], c[1], c[2]), static_cast<int>(f)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  const double radius2 = radius * radius;
+  offsets_.assign(static_cast<size_t>(m) + 1, 0);
+  std::vector<int> found;
+  for (Eigen::Index f = 0; f < m; ++f) {
+    found.clear();
+    const auto& c = cell[static_cast<size_t>(f)];
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const std::int64_t x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+          if (x < 0 || y < 0 || z < 0 || x >= dims[0] || y >= dims[1] || z >= dims[2]) continue;
+          const std::int64_t k = key(x, y, z);
+          auto it = std::lower_bound(keyed.begin(), keyed.end(), std::make_pair(k, -1));
+          for (; it != keyed.end() && it->first == k; ++it) {
+            const int g = it->second;
+            if (!pieces.empty() && pieces[static_cast<size_t>(g)] != pieces[static_cast<size_t>(f)]) continue;
+            if ((centroids.row(g) - centroids.row(f)).squaredNorm() <= radius2) found.push_back(g);
+          }
+        }
+    std::sort(found.begin(), found.end());
+    neighbours_.insert(neighbours_.end(), found.begin(), found.end());
+    offsets_[static_cast<size_t>(f) + 1] = neighbours_.size();
+  }
+}
+
+Normals GaussThinning::targets(const Normals& normals, double cone, int threads) const {
+  const Eigen::Index m = static_cast<Eigen::Index>(offsets_.size()) - 1;
+  if (normals.rows() != m) throw EngineError(Status::internal_error, "gauss thinning: one normal per face");
+  if (!(cone > 0.0)) throw EngineError(Status::invalid_argument, "gauss thinning: the cone must be positive");
+  Normals out(m, 3);
+  const double cos_cone = std::cos(cone);
+  const double width = kConeWidth * cone;
+  parallel_for(m, kChunk, threads, [&](Eigen::Index first, Eigen::Index last) {
+    for (Eigen::Index f = first; f < last; ++f) {
+      const Eigen::Vector3d n = normals.row(f).transpose();
+      Eigen::Matrix3d moments = Eigen::Matrix3d::Zero();
+      for (const int* g = begin(f); g != end(f); ++g) {
+        const Eigen::Vector3d ng = normals.row(*g).transpose();
+        const double c = std::clamp(n.dot(ng), -1.0, 1.0);
+        if (c < cos_cone) continue;
+        const double angle = std::acos(c) / width;
+        moments.noalias() += std::exp(-angle * angle) * ng * ng.transpose();
+      }
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+      solver.computeDirect(moments);  // closed form: the thinning's time was half the iterative solver's
+      const Eigen::Vector3d axis = solver.eigenvectors().col(0);
+      Eigen::Vector3d target = n - n.dot(axis) * axis;
+      const double length = target.norm();
+      out.row(f) = length > 1e-12 ? Eigen::RowVector3d((target / length).transpose()) : Eigen::RowVector3d(n.transpose());
+    }
+  });
+  return out;
+}
+
+}  // namespace developable

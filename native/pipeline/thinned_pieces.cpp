@@ -1,0 +1,173 @@
+#include "pipeline/thinned_pieces.h"
+
+#include "core/measures.h"
+#include "deformation/deformation.h"
+#include "deformation/ruled_polish.h"
+#include "deformation/move_limit.h"
+#include "ideal_curve/gauss_thinning.h"
+#include "pipeline/patches.h"
+#include "segmentation/normal_jump_pieces.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace developable {
+namespace {
+
+// A face collapses when its area falls under this share of the input's, or
+// its smallest angle under kCollapsedAngleShare of the input's: its normal is
+// then noise.
+constexpr double kCollapsedAreaShare = 0.1;
+constexpr double kCollapsedAngleShare = 0.25;
+// Rounds of putting corners back before a step is dropped.
+constexpr int kPutBackRounds = 20;
+// Small pieces: fewer faces than this, or than faces / kSmallPieceShare.
+constexpr int kSmallPieceFaces = 20;
+constexpr Eigen::Index kSmallPieceShare = 500;
+
+double smallest_angle(const Positions& p, const Triangles& t, Eigen::Index f) {
+  double smallest = M_PI;
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::RowVector3d u = p.row(t(f, (c + 1) % 3)) - p.row(t(f, c));
+    const Eigen::RowVector3d w = p.row(t(f, (c + 2) % 3)) - p.row(t(f, c));
+    smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)));
+  }
+  return smallest;
+}
+
+// What a thinning step may not do: turn a face over against the input,
+// collapse it, or crease an edge inside a piece (guard).
+class StepGuard {
+ public:
+  StepGuard(const MeasuredInput& input, CreaseGuard crease) : input_(input), crease_(std::move(crease)) {
+    const Eigen::Index m = input.triangles.rows();
+    smallest_.resize(m);
+    for (Eigen::Index f = 0; f < m; ++f) smallest_[f] = smallest_angle(input.positions, input.triangles, f);
+  }
+
+  std::vector<Eigen::Index> bad_faces(const Positions& p, const Normals& normals) const {
+    std::vector<Eigen::Index> bad = folded_faces(normals, input_.normals, crease_);
+    const Eigen::VectorXd areas = face_areas(p, input_.triangles);
+    for (Eigen::Index f = 0; f < p.rows() && f < input_.triangles.rows(); ++f)
+      if (areas[f] < kCollapsedAreaShare * input_.areas[f] ||
+          smallest_angle(p, input_.triangles, f) < kCollapsedAngleShare * smallest_[f])
+        bad.push_back(f);
+    std::sort(bad.begin(), bad.end());
+    bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+    return bad;
+  }
+
+  // `next` with the corners of its bad faces put back where `previous` has
+  // them, ring by ring; `previous` itself when that does not clear them.
+  void put_back(Positions& next, const Positions& previous) const {
+    for (int round = 0; round < kPutBackRounds; ++round) {
+      const std::vector<Eigen::Index> bad = bad_faces(next, face_normals(next, input_.triangles));
+      if (bad.empty()) return;
+      for (Eigen::Index f : bad)
+        for (int c = 0; c < 3; ++c) next.row(input_.triangles(f, c)) = previous.row(input_.triangles(f, c));
+    }
+    if (!bad_faces(next, face_normals(next, input_.triangles)).empty()) next = previous;
+  }
+
+  // The corners of the bad faces of `p` put back where the input has them,
+  // ring by ring, until none is bad (the input has none); returns the count
+  // of vertices put back.
+  Eigen::Index heal(Positions& p) const {
+    std::vector<bool> healed(static_cast<size_t>(p.rows()), false);
+    for (;;) {
+      const std::vector<Eigen::Index> bad = bad_faces(p, face_normals(p, input_.triangles));
+      if (bad.empty()) break;
+      for (Eigen::Index f : bad)
+        for (int c = 0; c < 3; ++c) {
+          const int v = input_.triangles(f, c);
+          p.row(v) = input_.positions.row(v);
+          healed[static_cast<size_t>(v)] = true;
+        }
+    }
+    return std::count(healed.begin(), healed.end(), true);
+  }
+
+ private:
+  const MeasuredInput& input_;
+  CreaseGuard crease_;
+  Eigen::VectorXd smallest_;
+};
+
+// `iterations` thinning steps from `current` (pieces: empty or per face).
+void thin(const MeasuredInput& input, NormalGuidedDeformation& deformation, const StepGuard& guard,
+          const std::vector<int>& pieces, int iterations, Positions& current, const Progress& progress) {
+  const double radius = kThinningRadius * input.measured.stats.average_edge_length;
+  const GaussThinning thinning(current, input.triangles, radius, pieces);
+  double cone = kThinningConeStart;
+  Normals normals = face_normals(current, input.triangles);
+  for (int it = 0; it < iterations; ++it) {
+    progress.report(static_cast<double>(it) / iterations, "thinning");
+    deformation.set_targets(thinning.targets(normals, cone, input.options.threads));
+    cone = std::max(cone * kThinningConeShrink, kThinningConeEnd);
+    Positions next = deformation.step(current, normals);
+    clamp_moves(next, input.positions, kThinningLimitShare * input.limit);
+    guard.put_back(next, current);
+    current = std::move(next);
+    normals = face_normals(current, input.triangles);
+  }
+}
+
+}  // namespace
+
+Positions thin_whole(const MeasuredInput& input, const Progress& progress) {
+  Positions thinned = input.positions;
+  if (!(input.limit > 0.0)) return thinned;
+  NormalGuidedDeformation deformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(input.triangles.rows()),
+                                      input.options.omega, kRefitCentroidWeight, Formulation::decoupled,
+                                      input.normals, input.options.threads);
+  const StepGuard free_guard(input, CreaseGuard(input.triangles, input.normals, {}, 0.0));
+  thin(input, deformation, free_guard, {}, kThinningIterations, thinned, progress);
+  return thinned;
+}
+
+ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinned, PieceSource source,
+                             const Progress& progress) {
+  ThinnedPieces out;
+  const Eigen::Index m = input.triangles.rows();
+  out.positions = thinned;
+  out.pieces.assign(static_cast<size_t>(m), 0);
+  out.count = 1;
+  if (!(input.limit > 0.0)) return out;
+  const Normals thinned_normals = face_normals(thinned, input.triangles);
+  if (source == PieceSource::creases) {
+    const int min_faces = static_cast<int>(std::max<Eigen::Index>(kSmallPieceFaces, m / kSmallPieceShare));
+    out.pieces = normal_jump_pieces(input.triangles, input.connectivity, thinned_normals, kPieceCrease, min_faces,
+                               input.normals, kSegmentedCreaseGrowth);
+  } else {
+    out.pieces = segmented_patches(thinned, input.triangles, thinned_normals, face_areas(thinned, input.triangles),
+                                   input.connectivity, input.options, progress.sub(0.0, 0.05))
+                     .ids;
+  }
+  out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
+
+  NormalGuidedDeformation deformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(m), input.options.omega,
+                                      kRefitCentroidWeight, Formulation::decoupled, input.normals,
+                                      input.options.threads);
+  const StepGuard piece_guard(input,
+                              CreaseGuard(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth));
+  piece_guard.heal(out.positions);
+  thin(input, deformation, piece_guard, out.pieces, kPieceThinningIterations, out.positions, progress.sub(0.05, 0.5));
+
+  const std::vector<bool> border = patch_border_vertices(input.triangles, out.pieces, input.positions.rows());
+  std::vector<bool> inside = input.measured.interior;
+  for (size_t v = 0; v < inside.size(); ++v) inside[v] = inside[v] && !border[v] && !input.pinned[v];
+  RuledPolishOptions ruled;
+  ruled.max_iterations = kThinnedPolishIterations;
+  ruled.limit = input.limit;
+  ruled.crease_growth = kSegmentedCreaseGrowth;
+  ruled.crease_groups = out.pieces;
+  const RuledPolishResult polished = polish_ruled(out.positions, input.positions, input.normals, input.triangles,
+                                                  inside, input.pinned, ruled, progress.sub(0.5, 1.0));
+  out.positions = polished.positions;
+  out.polish_iterations = polished.iterations;
+  return out;
+}
+
+}  // namespace developable

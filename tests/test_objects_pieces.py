@@ -1,0 +1,71 @@
+"""Whole objects made developable as ruled pieces, not flat by zigzags (issue 35): where the
+thinned-pieces generator (native/pipeline/thinned_pieces.h; docs/segmentation.md, "Thinned
+pieces") wins under the one rule, the result is flat *and ruled* (the faces around each vertex
+bend about one line) on far more vertices than today's default gave, and hardly more crumpled
+(flat but not ruled) than the input. Shares over all interior vertices, seams included.
+
+Bounds: bunny today 44.7 % flat and ruled (22.5 % crumpled), with the generator 68.3 % (0.7 %);
+the torus 11.4 -> 62.2 %. Held-out objects (devkit/objects.py; the generator's constants came from
+the prototype on the shared meshes, not from these seeds): blob 100 37.2 -> 59.7 %, blob 105
+26.5 -> 53.7 %, limb 100 14.9 -> 54.9 % (2026-12-04)."""
+import numpy as np
+import pytest
+
+from devkit import objects
+from devkit.binding import native
+from devkit.distance import bbox_diagonal, sampled_hausdorff
+from devkit.measures import developability_figures, turned_faces
+from devkit.obj import read_obj
+from result_support import check_honest
+
+ORIGIN_THINNED_PIECES = 8  # DEV_ORIGIN_THINNED_PIECES
+CRUMPLE_SLACK = 0.03  # kThinnedCrumpleSlack (patch_alternative.h)
+
+# (case, lowest flat-and-ruled share over all interior vertices); today's default in the docstring.
+CASES = [
+    ("shared:bunny", 0.60),
+    ("shared:torus", 0.50),
+    ("object:blob:100", 0.50),
+    ("object:blob:105", 0.45),
+    ("object:limb:100", 0.45),
+]
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _library(library):
+    """Every test here runs the engine of the build under test."""
+
+
+def mesh_of(case, meshes_dir):
+    parts = case.split(":")
+    if parts[0] == "shared":
+        return read_obj(meshes_dir / (parts[1] + ".obj"))
+    m = objects.random_case(parts[1], int(parts[2]))
+    return m.positions, m.triangles
+
+
+@pytest.mark.parametrize("case, lowest", CASES)
+def test_objects_come_back_as_ruled_pieces(case, lowest, meshes_dir):
+    positions, triangles = mesh_of(case, meshes_dir)
+    r = native.run(positions, triangles)
+    check_honest(positions, triangles, r)
+    s = r.stats
+    assert s["result_origin"] == ORIGIN_THINNED_PIECES, (case, s["result_origin"], s["result_message"])
+    before = developability_figures(positions, triangles)
+    after = developability_figures(r.positions, triangles)
+    assert after["flat_and_ruled"] >= lowest, (case, after)
+    assert after["crumpled"] <= before["crumpled"] + CRUMPLE_SLACK, (case, before, after)
+    assert (turned_faces(positions, r.positions, triangles) > 0).all(), case
+    assert sampled_hausdorff(r.positions, triangles, positions, triangles) <= 0.01 * bbox_diagonal(positions) * (
+        1 + 1e-6
+    )
+    assert s["patches"] == len(np.unique(r.patch_ids)) > 1
+
+
+def test_zigzags_stay_where_they_are_flatter(meshes_dir):
+    """The one order ranks by the flat share: spot's flat-by-zigzag result (53.7 % flat, 21.4 %
+    flat and ruled) beats the thinned pieces (46.1 %, 42.5 %), so it is still returned; issue 35's
+    ranking by flat and ruled vertices would change that (docs/method.md, "Known limits")."""
+    positions, triangles = read_obj(meshes_dir / "spot_low_resolution.obj")
+    r = native.run(positions, triangles)
+    assert r.stats["result_origin"] != ORIGIN_THINNED_PIECES

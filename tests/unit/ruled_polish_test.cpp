@@ -1,0 +1,96 @@
+// ruled_polish.h: on a doubly curved mesh split into pieces the polish makes
+// vertices flat and ruled (not flat by zigzags), keeps pins, the limit, the
+// faces' orientation and the crease guard; it returns its start when nothing
+// is scored; sizes that disagree are refused.
+#include "deformation/ruled_polish.h"
+
+#include "core/measures.h"
+#include "core/mesh_connectivity.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+namespace developable {
+namespace {
+
+struct Split {
+  test::Mesh mesh = test::sphere(4);  // 2048 faces
+  std::vector<int> pieces;
+  std::vector<bool> inside;
+  VertexFaces table = vertex_faces(mesh.triangles, mesh.positions.rows());
+  std::vector<bool> interior = interior_vertices(mesh.positions, mesh.triangles);
+
+  // Eight pieces: the octants.
+  Split() {
+    for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
+      Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
+      for (int k = 0; k < 3; ++k) c += mesh.positions.row(mesh.triangles(f, k));
+      pieces.push_back((c[0] > 0) + 2 * (c[1] > 0) + 4 * (c[2] > 0));
+    }
+    inside = interior;
+    const VertexFaces& t = table;
+    for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v)
+      for (const int* f = t.begin(v); f != t.end(v); ++f)
+        if (pieces[static_cast<size_t>(*f)] != pieces[static_cast<size_t>(*t.begin(v))]) inside[static_cast<size_t>(v)] = false;
+  }
+
+  // Flat-and-ruled and crumpled shares over the inside vertices.
+  VertexShares shares(const Positions& p) const {
+    const Eigen::VectorXd defects = angle_defects(p, mesh.triangles, inside);
+    return vertex_shares(defects, ruling_spreads(p, mesh.triangles, face_normals(p, mesh.triangles), table, inside),
+                         inside);
+  }
+};
+
+TEST(RuledPolish, MakesVerticesFlatAndRuledNotCrumpled) {
+  const Split s;
+  const Normals normals = face_normals(s.mesh.positions, s.mesh.triangles);
+  RuledPolishOptions options;
+  options.limit = 0.03;
+  options.crease_growth = 20.0 * M_PI / 180.0;
+  options.crease_groups = s.pieces;
+  const RuledPolishResult r =
+      polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, s.inside, {}, options, {});
+  ASSERT_GT(r.iterations, 0);
+  const VertexShares before = s.shares(s.mesh.positions), after = s.shares(r.positions);
+  EXPECT_EQ(before.ruled, 0.0);  // no vertex of a sphere is flat
+  EXPECT_GT(after.ruled, 0.3);   // flat and ruled
+  EXPECT_LT(after.crumpled, 0.03);
+  for (Eigen::Index v = 0; v < s.mesh.positions.rows(); ++v)
+    EXPECT_LE((r.positions.row(v) - s.mesh.positions.row(v)).norm(), options.limit * (1.0 + 1e-12));
+  const Normals after_normals = face_normals(r.positions, s.mesh.triangles);
+  EXPECT_TRUE(turned_over_faces(after_normals, normals).empty());
+  const CreaseGuard guard(s.mesh.triangles, normals, s.pieces, options.crease_growth);
+  EXPECT_TRUE(guard.creased_faces(after_normals).empty());
+  // The same input gives the same mesh.
+  EXPECT_EQ(polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, s.inside, {}, options, {})
+                .positions,
+            r.positions);
+}
+
+TEST(RuledPolish, KeepsPinsAndReturnsItsStartWithNothingScored) {
+  const Split s;
+  const Normals normals = face_normals(s.mesh.positions, s.mesh.triangles);
+  RuledPolishOptions options;
+  options.limit = 0.03;
+  options.max_iterations = 5;
+  std::vector<bool> pinned(static_cast<size_t>(s.mesh.positions.rows()), false);
+  for (size_t v = 0; v < pinned.size(); v += 3) pinned[v] = true;
+  const RuledPolishResult r =
+      polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, s.inside, pinned, options, {});
+  for (size_t v = 0; v < pinned.size(); ++v)
+    if (pinned[v]) EXPECT_EQ(r.positions.row(static_cast<Eigen::Index>(v)), s.mesh.positions.row(static_cast<Eigen::Index>(v)));
+  const std::vector<bool> none(pinned.size(), false);
+  const RuledPolishResult idle =
+      polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, none, {}, options, {});
+  EXPECT_EQ(idle.iterations, 0);
+  EXPECT_EQ(idle.positions, s.mesh.positions);
+  EXPECT_THROW(polish_ruled(s.mesh.positions, s.mesh.positions, normals.topRows(2), s.mesh.triangles, s.inside, {},
+                            options, {}),
+               EngineError);
+}
+
+}  // namespace
+}  // namespace developable

@@ -1,10 +1,8 @@
 #include "deformation/defect_polish.h"
 
 #include "core/measures.h"
-#include "core/mesh_connectivity.h"
 #include "deformation/move_limit.h"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
@@ -330,80 +328,6 @@ struct GiveUp {
   double rms(double inside2) const { return std::sqrt((inside2 + outside2) / count); }
 };
 
-// PolishOptions::keep_ruled: no constrained vertex's ruling spread may grow
-// above the larger of kRuledSpread and its spread at the start. A trial is
-// looked at only where it moved: the vertices with a corner of their star
-// away from where `fallback` has it.
-class SpreadGuard {
- public:
-  SpreadGuard(const Positions& start, const Triangles& triangles, const std::vector<bool>& watched)
-      : triangles_(triangles), watched_(watched), table_(vertex_faces(triangles, start.rows())) {
-    limits_ = Eigen::VectorXd::Constant(start.rows(), kRuledSpread);
-    for (Eigen::Index v = 0; v < start.rows(); ++v)
-      if (watched_[static_cast<size_t>(v)] && table_.count(v) >= 3) limits_[v] = std::max(kRuledSpread, spread_at(start, v));
-  }
-
-  // The watched vertices of `positions` whose spread is above their limit,
-  // of those whose stars differ from `fallback`.
-  std::vector<Eigen::Index> crumpled(const Positions& positions, const Positions& fallback) const {
-    std::vector<bool> moved(static_cast<size_t>(positions.rows()), false);
-    for (Eigen::Index v = 0; v < positions.rows(); ++v)
-      moved[static_cast<size_t>(v)] = positions.row(v) != fallback.row(v);
-    std::vector<Eigen::Index> out;
-    for (Eigen::Index v = 0; v < positions.rows(); ++v) {
-      if (!watched_[static_cast<size_t>(v)] || table_.count(v) < 3) continue;
-      bool touched = false;
-      for (const int* f = table_.begin(v); f != table_.end(v) && !touched; ++f)
-        for (int c = 0; c < 3; ++c) touched = touched || moved[static_cast<size_t>(triangles_(*f, c))];
-      if (touched && spread_at(positions, v) > limits_[v]) out.push_back(v);
-    }
-    return out;
-  }
-
-  // Puts the corners of the faces around crumpled vertices back where
-  // `fallback` has them, ring by ring; whether none is left.
-  bool put_back(Positions& positions, const Positions& fallback, int rounds) const {
-    for (int round = 0; round < rounds; ++round) {
-      const std::vector<Eigen::Index> bad = crumpled(positions, fallback);
-      if (bad.empty()) return true;
-      for (Eigen::Index v : bad)
-        for (const int* f = table_.begin(v); f != table_.end(v); ++f)
-          for (int c = 0; c < 3; ++c) positions.row(triangles_(*f, c)) = fallback.row(triangles_(*f, c));
-    }
-    return crumpled(positions, fallback).empty();
-  }
-
- private:
-  // ruling_spreads (measures.h) at one vertex, its eigenvalue in closed form
-  // (a third of the guard's time with the iterative solver).
-  double spread_at(const Positions& positions, Eigen::Index v) const {
-    Eigen::Matrix3d moments = Eigen::Matrix3d::Zero();
-    double total = 0.0;
-    for (const int* f = table_.begin(v); f != table_.end(v); ++f) {
-      int c = 0;
-      while (triangles_(*f, c) != v) ++c;
-      const Eigen::Vector3d p = positions.row(v).transpose();
-      const Eigen::Vector3d a = positions.row(triangles_(*f, (c + 1) % 3)).transpose() - p;
-      const Eigen::Vector3d b = positions.row(triangles_(*f, (c + 2) % 3)).transpose() - p;
-      const Eigen::Vector3d cross = a.cross(b);
-      const double length = cross.norm();
-      if (!(length > 0.0)) continue;
-      const double tip = std::atan2(length, a.dot(b));
-      const Eigen::Vector3d n = cross / length;
-      moments.noalias() += tip * (n * n.transpose());
-      total += tip;
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-    solver.computeDirect(moments, Eigen::EigenvaluesOnly);
-    return std::asin(std::sqrt(std::clamp(solver.eigenvalues()[0] / std::max(total, 1e-300), 0.0, 1.0)));
-  }
-
-  const Triangles& triangles_;
-  std::vector<bool> watched_;
-  VertexFaces table_;
-  Eigen::VectorXd limits_;
-};
-
 // The polish of `region` on the mesh it was read off: the Levenberg-Marquardt
 // iterations of polish_defects (their contract), from `start` with its
 // `defects` (read at the rows only), giving up past `give_up`'s bound. One
@@ -426,7 +350,6 @@ class RegionPolish {
         crease_guard_(triangles, reference_normals, options.crease_groups, options.crease_growth),
         system_(options.direct_rows),
         current_(start) {
-    if (options.keep_ruled) spread_guard_.emplace(start, triangles, region.rows);
     for (Eigen::Index v = 0; v < n_; ++v)
       if (region.moves[static_cast<size_t>(v)]) free_of_[static_cast<size_t>(v)] = static_cast<int>(free_count_++);
     for (Eigen::Index v = 0; v < n_; ++v)
@@ -440,17 +363,7 @@ class RegionPolish {
   bool factor(double mu);
   Positions moved(const Eigen::VectorXd& step, double length) const;
   bool unfold(Positions& trial) const {
-    if (!spread_guard_)
-      return put_back_folded_corners(trial, current_, triangles_, reference_normals_, crease_guard_, kRevertRounds);
-    // Putting corners back for one guard can trip the other: in turn until
-    // both hold.
-    for (int round = 0; round < kRevertRounds; ++round) {
-      if (!put_back_folded_corners(trial, current_, triangles_, reference_normals_, crease_guard_, kRevertRounds))
-        return false;
-      if (spread_guard_->crumpled(trial, current_).empty()) return true;
-      spread_guard_->put_back(trial, current_, 1);
-    }
-    return false;
+    return put_back_folded_corners(trial, current_, triangles_, reference_normals_, crease_guard_, kRevertRounds);
   }
   Eigen::VectorXd residual_at(const Eigen::VectorXd& defects) const;
   void pull();
@@ -473,7 +386,6 @@ class RegionPolish {
   Eigen::Index free_count_ = 0;
   Eigen::Index rows_ = 0;
   const CreaseGuard crease_guard_;
-  std::optional<SpreadGuard> spread_guard_;
   std::optional<DefectJacobian> jacobian_;
   std::optional<NormalMatrix> normal_;
   DampedSystem system_;

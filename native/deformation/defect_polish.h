@@ -96,14 +96,6 @@ struct PolishOptions {
   // input"). The give-up bounds and largest_move count from the first step
   // after the pull.
   int pull_steps = 0;
-  // true: a step may not make the faces around a constrained vertex less
-  // ruled than kRuledSpread (measures.h) or than they were at `start`,
-  // whichever is larger (ruling_spreads): the faces of such a vertex keep
-  // their corners, ring by ring, as those that turn over. Zero angle defect
-  // can be bought by triangle-scale zigzags (flat but crumpled); with this
-  // guard the polish makes vertices flat only in ways that keep them ruled
-  // (the thinned-pieces generator, docs/segmentation.md).
-  bool keep_ruled = false;
 };
 
 struct PolishResult {

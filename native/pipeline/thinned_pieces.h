@@ -24,7 +24,7 @@
 //      input, no face turned over, no edge inside a piece creased beyond the
 //      guard. (The angle-defect polish here makes the pieces flat by
 //      zigzags again: spot 32.7 % flat, 15.1 % flat and ruled, 17.6 %
-//      crumpled; held by PolishOptions::keep_ruled it hardly moves: 22.9 %
+//      crumpled; held by a guard on the ruling spread it hardly moves: 22.9 %
 //      flat and ruled against 22.7 % before it.)
 // Every step keeps no face turned over or collapsed. Each candidate
 // competes under the one rule (selection.h) through run_thinned_alternative

@@ -4,7 +4,6 @@
 #include "deformation/defect_polish.h"
 
 #include "core/measures.h"
-#include "core/mesh_connectivity.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -371,39 +370,6 @@ TEST(DefectPolish, RefusesSizesThatDisagreeAndCancels) {
   } catch (const EngineError& e) {
     EXPECT_EQ(e.status(), Status::cancelled);
   }
-}
-
-}  // namespace
-}  // namespace developable
-
-namespace developable {
-namespace {
-
-// PolishOptions::keep_ruled: polished flat vertex by vertex, a sphere's
-// vertices are made flat by zigzags (their stars' normals leave any great
-// circle); with the guard no constrained vertex ends less ruled than the
-// larger of kRuledSpread and its start.
-TEST(DefectPolish, KeepRuledLetsNoVertexCrumple) {
-  const test::Mesh m = test::sphere(3);
-  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
-  const Normals normals = face_normals(m.positions, m.triangles);
-  const VertexFaces table = vertex_faces(m.triangles, m.positions.rows());
-  const Eigen::VectorXd start = ruling_spreads(m.positions, m.triangles, normals, table, interior);
-  const auto grown = [&](const Positions& p) {
-    const Eigen::VectorXd after = ruling_spreads(p, m.triangles, face_normals(p, m.triangles), table, interior);
-    int count = 0;
-    for (Eigen::Index v = 0; v < after.size(); ++v) count += after[v] > std::max(start[v], kRuledSpread) + 1e-12;
-    return count;
-  };
-  PolishOptions options;
-  options.limit = 0.05;
-  const PolishResult free = polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, options, {});
-  ASSERT_GT(free.iterations, 0);
-  EXPECT_GT(grown(free.positions), 0);  // the unguarded polish crumples
-  options.keep_ruled = true;
-  const PolishResult kept = polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, options, {});
-  EXPECT_EQ(grown(kept.positions), 0);
-  EXPECT_TRUE(turned_over_faces(face_normals(kept.positions, m.triangles), normals).empty());
 }
 
 }  // namespace

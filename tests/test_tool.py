@@ -7,6 +7,7 @@ import pytest
 
 from devkit import meshes
 from devkit.obj import read_obj, write_obj
+from test_one_sided import flipped, moebius
 
 
 def run_tool(tool_path, *args):
@@ -45,6 +46,78 @@ def test_formats_round_trip(tool_path, tmp_path, suffix):
     assert run.returncode == 0, run.stderr
     out_positions, out_triangles = read_obj(target)
     assert out_positions.shape == positions.shape and len(out_triangles) == len(triangles)
+
+
+def read_off_or_ply(path):
+    """(positions (n, 3), triangles (m, 3)) of an ASCII OFF or PLY file of triangles, as OpenMesh writes them."""
+    lines = path.read_text().splitlines()
+    if lines[0] == "OFF":
+        n, m = map(int, lines[1].split()[:2])
+        start = 2
+    else:
+        n, m = (int(line.split()[2]) for line in lines if line.startswith("element "))
+        start = lines.index("end_header") + 1
+    positions = np.array([line.split() for line in lines[start : start + n]], dtype=np.float64)
+    faces = np.array([line.split() for line in lines[start + n : start + n + m]], dtype=np.int64)
+    assert (faces[:, 0] == 3).all()
+    return positions, faces[:, 1:].astype(np.int32)
+
+
+def read_stl(path):
+    """(facet normals (m, 3), corners (m, 3, 3)) of an ASCII STL file."""
+    words = path.read_text().split()
+    normals = [words[i + 1 : i + 4] for i, w in enumerate(words) if w == "normal"]
+    corners = [words[i + 1 : i + 4] for i, w in enumerate(words) if w == "vertex"]
+    return np.array(normals, dtype=np.float64), np.array(corners, dtype=np.float64).reshape(-1, 3, 3)
+
+
+def renumbered_by_first_use(faces):
+    """The faces with their vertices numbered in the order the faces first use them."""
+    _, first = np.unique(faces.ravel(), return_index=True)
+    number = np.empty(faces.max() + 1, np.int64)
+    number[faces.ravel()[np.sort(first)]] = np.arange(len(first))
+    return number[faces]
+
+
+def one_sided_or_inconsistent(kind):
+    if kind == "moebius":
+        return moebius(noise=0.03, seed=6)
+    positions, triangles = meshes.noisy_cylinder_patch()
+    return positions, flipped(triangles, np.random.default_rng(1).random(len(triangles)) < 0.3)
+
+
+@pytest.mark.parametrize("kind", ["moebius", "wound at random"])
+def test_every_format_writes_the_faces_as_returned(tool_path, tmp_path, kind):
+    # The engine runs one-sided and inconsistently wound meshes and returns the caller's faces,
+    # which no OpenMesh mesh can hold (its add_face refuses a "complex edge"): every writer gets them
+    # as they are, in the order and winding of the OBJ.
+    positions, triangles = one_sided_or_inconsistent(kind)
+    source = tmp_path / "in.obj"
+    write_obj(source, positions, triangles)
+    outputs = {suffix: tmp_path / ("out." + suffix) for suffix in ("obj", "off", "ply", "stl")}
+    for target in outputs.values():
+        run = run_tool(tool_path, source, target, "--max-iterations", "3", "--quiet")
+        assert run.returncode == 0, (target.name, run.stderr)
+    reference, faces = read_obj(outputs["obj"])
+    assert np.array_equal(faces, triangles) and reference.shape == positions.shape
+    for suffix in ("off", "ply"):
+        got, got_faces = read_off_or_ply(outputs[suffix])
+        assert np.array_equal(got_faces, faces), suffix
+        assert np.allclose(got, reference, rtol=0, atol=1e-6), suffix  # single precision
+    normals, corners = read_stl(outputs["stl"])
+    assert np.allclose(corners, reference[faces], rtol=0, atol=1e-6)
+    # Each facet's normal is its own winding's, also where neighbours disagree.
+    own = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    assert ((normals * own).sum(1) > 0).all()
+    # And the tool reads each back and runs it: the same vertices and faces (an STL's vertices are
+    # numbered as its facets first use them).
+    for suffix in ("off", "ply", "stl"):
+        back = tmp_path / ("back-" + suffix + ".obj")
+        run = run_tool(tool_path, outputs[suffix], back, "--max-iterations", "1", "--quiet")
+        assert run.returncode == 0, (suffix, run.stderr)
+        back_positions, back_faces = read_obj(back)
+        assert back_positions.shape == reference.shape, suffix
+        assert np.array_equal(back_faces, faces if suffix != "stl" else renumbered_by_first_use(faces)), suffix
 
 
 def test_run_with_report_and_pins(tool_path, tmp_path):

@@ -1,9 +1,9 @@
 #include "mesh_io.h"
 
 #include <OpenMesh/Core/IO/IOManager.hh>
-#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/Mesh/BaseKernel.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
@@ -18,11 +18,6 @@ namespace developable_tool {
 namespace {
 
 using namespace OpenMesh;
-
-struct DoubleTraits : public DefaultTraits {
-  typedef Vec3d Point;
-};
-using PolyMesh = PolyMesh_ArrayKernelT<DoubleTraits>;
 
 // Records vertices and faces as the reader sees them. OpenMesh's own importer
 // silently drops faces that would make the mesh non-manifold; this one keeps
@@ -96,6 +91,85 @@ class RawImporter : public IO::BaseImporter {
  private:
   RawMesh& mesh_;
   int64_t polygons_ = 0;
+};
+
+// Hands OpenMesh's writers the triangles exactly as the engine returned them.
+// An OpenMesh mesh cannot hold them all: its add_face refuses a face whose
+// edge a neighbour runs the same way ("complex edge"), and the engine runs
+// inconsistently wound and one-sided meshes (orientation.h) and returns their
+// faces in the caller's winding. The writers need only vertices and faces.
+// Everything else is answered as OpenMesh's exporter of the PolyMesh with
+// double points the tool wrote before (is_triangle_mesh stays false, which
+// sets the OFF writer's spacing), so an orientable result's file is byte for
+// byte as it was.
+class RawExporter : public IO::BaseExporter {
+ public:
+  RawExporter(const std::vector<double>& positions, const std::vector<int32_t>& triangles)
+      : positions_(positions), triangles_(triangles) {}
+
+  Vec3d pointd(VertexHandle v) const override {
+    const size_t i = 3 * static_cast<size_t>(v.idx());
+    return Vec3d(positions_[i], positions_[i + 1], positions_[i + 2]);
+  }
+  Vec3f point(VertexHandle v) const override { return Vec3f(pointd(v)); }
+  bool is_point_double() const override { return true; }
+  unsigned int get_vhandles(FaceHandle f, std::vector<VertexHandle>& corners) const override {
+    const size_t i = 3 * static_cast<size_t>(f.idx());
+    corners = {VertexHandle(triangles_[i]), VertexHandle(triangles_[i + 1]), VertexHandle(triangles_[i + 2])};
+    return 3;
+  }
+  size_t n_vertices() const override { return positions_.size() / 3; }
+  size_t n_faces() const override { return triangles_.size() / 3; }
+  size_t n_edges() const override { return 0; }
+  // No custom properties: the PLY writer lists the kernel's.
+  const BaseKernel* kernel() override { return &no_properties_; }
+
+  // Nothing else is written: no normals (the STL writer computes each face's
+  // from its corners), colours, texture coordinates, status or half-edges.
+  Vec3f normal(VertexHandle) const override { return Vec3f(0.0f); }
+  Vec3d normald(VertexHandle) const override { return Vec3d(0.0); }
+  bool is_normal_double() const override { return true; }
+  Vec3uc color(VertexHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(VertexHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(VertexHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(VertexHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(VertexHandle) const override { return Vec3f(0.0f); }
+  Vec4f colorAf(VertexHandle) const override { return Vec4f(0.0f); }
+  Vec2f texcoord(VertexHandle) const override { return Vec2f(0.0f); }
+  Vec2f texcoord(HalfedgeHandle) const override { return Vec2f(0.0f); }
+  Attributes::StatusInfo status(VertexHandle) const override { return {}; }
+  HalfedgeHandle getHeh(FaceHandle, VertexHandle) const override { return HalfedgeHandle(); }
+  unsigned int get_face_texcoords(std::vector<Vec2f>& texcoords) const override {
+    texcoords.clear();
+    return 0;
+  }
+  Vec3f normal(FaceHandle) const override { return Vec3f(0.0f); }
+  Vec3d normald(FaceHandle) const override { return Vec3d(0.0); }
+  Vec3uc color(FaceHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(FaceHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(FaceHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(FaceHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(FaceHandle) const override { return Vec3f(0.0f); }
+  Vec4f colorAf(FaceHandle) const override { return Vec4f(0.0f); }
+  Attributes::StatusInfo status(FaceHandle) const override { return {}; }
+  Vec3uc color(EdgeHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(EdgeHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(EdgeHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(EdgeHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(EdgeHandle) const override { return Vec3f(0.0f); }
+  Vec4f colorAf(EdgeHandle) const override { return Vec4f(0.0f); }
+  Attributes::StatusInfo status(EdgeHandle) const override { return {}; }
+  int get_halfedge_id(VertexHandle) override { return -1; }
+  int get_halfedge_id(FaceHandle) override { return -1; }
+  int get_next_halfedge_id(HalfedgeHandle) override { return -1; }
+  int get_to_vertex_id(HalfedgeHandle) override { return -1; }
+  int get_face_id(HalfedgeHandle) override { return -1; }
+  Attributes::StatusInfo status(HalfedgeHandle) const override { return {}; }
+
+ private:
+  const std::vector<double>& positions_;
+  const std::vector<int32_t>& triangles_;
+  BaseKernel no_properties_;
 };
 
 std::string extension(const std::string& path) {
@@ -196,25 +270,12 @@ bool write_mesh(const std::string& path, const std::vector<double>& positions, c
     }
     return true;
   }
-  PolyMesh mesh;
-  std::vector<PolyMesh::VertexHandle> handles;
-  handles.reserve(positions.size() / 3);
-  for (size_t v = 0; v + 2 < positions.size(); v += 3)
-    handles.push_back(mesh.add_vertex(PolyMesh::Point(positions[v], positions[v + 1], positions[v + 2])));
-  for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
-    const PolyMesh::FaceHandle face =
-        mesh.add_face(handles[static_cast<size_t>(triangles[t])], handles[static_cast<size_t>(triangles[t + 1])],
-                      handles[static_cast<size_t>(triangles[t + 2])]);
-    if (!face.is_valid()) {
-      error = "cannot build the output mesh (triangle " + std::to_string(t / 3) + ")";
-      return false;
-    }
-  }
+  RawExporter exporter(positions, triangles);
   // The extension decides the format: keep it on the temporary name.
   const std::string temporary = path + ".partial." + extension(path);
   const IO::Options options;
   omlog().disable();
-  if (!IO::write_mesh(mesh, temporary, options, 17)) {
+  if (!IO::IOManager().write(temporary, exporter, options, 17)) {
     std::remove(temporary.c_str());
     error = "cannot write " + path;
     return false;

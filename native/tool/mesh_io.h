@@ -23,8 +23,12 @@ struct RawMesh {
 // the file cannot be read.
 bool read_raw_mesh(const std::string& path, RawMesh& mesh, std::string& error);
 
-// Writes a triangle mesh. Returns false and sets `error` on failure; writes to
-// a temporary file first and renames it, so no partial file is ever left.
+// Writes the triangles exactly as given, in their order and winding (also an
+// inconsistently wound or one-sided result, which no OpenMesh mesh holds);
+// OBJ with 17 significant digits, OFF, PLY and STL through OpenMesh's writers
+// (single precision). Returns false and sets `error` when the file cannot be
+// written; writes to a temporary file first and renames it, so no partial
+// file is ever left.
 bool write_mesh(const std::string& path, const std::vector<double>& positions, const std::vector<int32_t>& triangles,
                 std::string& error);
 

@@ -20,7 +20,6 @@ class MeshBuffers:
         self.triangles = triangles  # (t, 3) int32
         self.tri_polygon = tri_polygon  # (t,) int32: polygon of each loop triangle
         self.n_polygons = n_polygons
-        self.orientation_note = ""  # the engine's word on faces it turns (a one-sided or inconsistently wound mesh)
 
     @property
     def n_vertices(self):

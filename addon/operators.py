@@ -248,11 +248,6 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
         pins = pinned if pinned.any() else None
 
         def work(progress):
-            # The engine runs a one-sided or inconsistently wound mesh on faces turned to agree; its
-            # input check says so, and the user is told (the faces themselves are left as they are).
-            status, message = native.validate(positions, triangles)
-            if status == native.STATUS_OK and message.startswith("ok: "):
-                buffers.orientation_note = message[len("ok: ") :]
             return native.run(positions, triangles, pins, params, progress)
 
         return Job(work, data=buffers)
@@ -375,8 +370,11 @@ flat sheet). The result goes into the shape key "Developable"; the mesh itself i
         )
         v = verdicts.verdict(obj.name, s, facts)
         notes, level = [], {v.level}
-        if buffers.orientation_note:
-            notes.append(buffers.orientation_note[0].upper() + buffers.orientation_note[1:] + ".")
+        # The engine ran a one-sided or inconsistently wound mesh on faces turned to agree; its result
+        # says what it turned, and the user is told (the faces themselves are left as they are).
+        turned = s["orientation_note"]
+        if turned:
+            notes.append(turned[0].upper() + turned[1:] + ".")
         if target.dropped:
             notes.append(
                 "(%s lying on another face ignored, as Blender's Validate does)"

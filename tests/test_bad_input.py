@@ -124,6 +124,7 @@ def test_either_winding_is_accepted(library, tool_path, tmp_path, name):
     assert status == 0 and message.startswith("ok: " + note), message
     result = native.run(positions, triangles)
     assert np.isfinite(result.positions).all()
+    assert result.stats["orientation_note"] == message[len("ok: ") :]  # the run says it too
     source, target = tmp_path / "in.obj", tmp_path / "out.obj"
     write_obj(source, positions, triangles)
     run = subprocess.run([str(tool_path), str(source), str(target)], capture_output=True, text=True, timeout=60)

@@ -133,6 +133,28 @@ MOEBIUS = {
     "irregular, 5 % noise, fine": dict(noise=0.05, irregular=True, seed=4, around=200, across=10),
 }
 
+# -- what the run says it turned ------------------------------------------------------------------
+
+
+def test_the_run_says_what_it_turned_as_the_input_check_does(library):
+    # The add-on tells the user what the engine turned from the run's result alone (ABI 10); before,
+    # it ran the input check and the turning a second time to read it (~1 s at 1M faces).
+    pos, tri = meshes.noisy_cylinder_patch()
+    strip = moebius(noise=0.03, seed=6)
+    cases = {
+        "wound consistently": (pos, tri, ""),
+        "one face turned": (pos, flipped(tri, np.arange(len(tri)) == 7), "1 of 690 triangles is wound the other way"),
+        "a third turned": (pos, flipped(tri, np.arange(len(tri)) % 3 == 0), "230 of 690 triangles are wound"),
+        "Möbius strip": strip + ("the surface is one-sided (like a Möbius strip): ",),
+    }
+    for name, (p, t, words) in cases.items():
+        status, message = native.validate(p, t)
+        note = native.run(p, t, params={"max_iterations": 2}).stats["orientation_note"]
+        assert status == native.STATUS_OK and message == ("ok: " + note if note else "ok"), name
+        assert note.startswith(words) and bool(note) == bool(words), (name, note)
+    assert "a cut of 6 edges" in note and note.endswith("which the flat pattern opens")  # the strip, last
+
+
 # -- inconsistently wound: the twin's result ------------------------------------------------------
 
 

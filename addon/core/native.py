@@ -19,7 +19,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 9  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 10  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -179,6 +179,8 @@ class dev_stats(ctypes.Structure):
         ("move_limit", ctypes.c_double),
         ("flat_threshold", ctypes.c_double),
         ("ruled_threshold", ctypes.c_double),
+        # ABI 10
+        ("orientation_note", ctypes.c_char * 256),
     ]
 
 
@@ -504,7 +506,8 @@ def _as_triangles(triangles):
 
 
 def validate(positions, triangles):
-    """(status, message) of the engine's input check."""
+    """(status, message) of the engine's input check: on STATUS_OK "ok", or "ok: " and what a run
+    turns, the words run() also returns (Result.stats["orientation_note"])."""
     lib = load()
     pos = _as_positions(positions)
     tri = _as_triangles(triangles)
@@ -535,7 +538,8 @@ def _copy_result(lib, res, n_vertices, n_triangles):
     st = dev_stats()
     _check(lib.dev_result_stats(res, ctypes.byref(st)), "dev_result_stats")
     out.stats = {name: getattr(st, name) for name, _ in dev_stats._fields_}
-    out.stats["result_message"] = st.result_message.decode("utf-8", "replace")
+    for name in ("result_message", "orientation_note"):
+        out.stats[name] = getattr(st, name).decode("utf-8", "replace")
 
     def get(fn, shape, dtype, ptr):
         a = np.empty(shape, dtype=dtype)

@@ -28,6 +28,7 @@
 
 struct dev_result {
   developable::PipelineResult pipeline;
+  std::string orientation_note;  // what dev_run turned (orientation_note), "" for nothing
 };
 
 struct dev_pattern {
@@ -201,9 +202,11 @@ int32_t copy_out(const dev_result* result, T* out, int64_t capacity, Source&& so
   return DEV_STATUS_OK;
 }
 
-void copy_label(char (&out)[16], const std::string& text) {
-  std::memset(out, 0, sizeof out);
-  std::memcpy(out, text.data(), std::min(sizeof out - 1, text.size()));
+// A string into a fixed char field, truncated to fit, NUL-terminated.
+template <size_t N>
+void copy_text(char (&out)[N], const std::string& text) {
+  std::memset(out, 0, N);
+  std::memcpy(out, text.data(), std::min(N - 1, text.size()));
 }
 
 double elapsed_ms(std::chrono::steady_clock::time_point since) {
@@ -327,6 +330,7 @@ int32_t dev_run(const double* positions, int64_t n_vertices, const int32_t* tria
       developable::validate_mesh(mesh_positions, copy_triangles(triangles, n_triangles));
     owned->pipeline = developable::run_pipeline(mesh_positions, orientation.triangles, pin_mask, options, report);
     developable::to_caller_normals(owned->pipeline.target_normals, orientation.turned);
+    owned->orientation_note = developable::orientation_note(orientation);
     *result = owned.release();
   });
 }
@@ -370,9 +374,8 @@ int32_t dev_result_stats(const dev_result* result, dev_stats* stats) {
   stats->move_limit = s.move_limit;
   stats->flat_threshold = developable::kFlatDefect;
   stats->ruled_threshold = developable::kRuledSpread;
-  const size_t length = std::min(s.result_message.size(), sizeof stats->result_message - 1);
-  std::memcpy(stats->result_message, s.result_message.data(), length);
-  stats->result_message[length] = '\0';
+  copy_text(stats->result_message, s.result_message);
+  copy_text(stats->orientation_note, result->orientation_note);
   return DEV_STATUS_OK;
 }
 
@@ -600,7 +603,7 @@ int32_t dev_pattern_piece_get(const dev_pattern* pattern, int64_t index, dev_pat
     piece->width_mm = pattern->layout.pieces[static_cast<size_t>(index)].size.x();
     piece->height_mm = pattern->layout.pieces[static_cast<size_t>(index)].size.y();
   }
-  copy_label(piece->label, developable::piece_label(static_cast<int>(index)));
+  copy_text(piece->label, developable::piece_label(static_cast<int>(index)));
   return DEV_STATUS_OK;
 }
 
@@ -617,7 +620,7 @@ int32_t dev_pattern_seam_get(const dev_pattern* pattern, int64_t index, dev_patt
   seam->length_3d = s.length_3d;
   seam->length_a = s.length_a;
   seam->length_b = s.length_b;
-  copy_label(seam->label, std::to_string(index + 1));
+  copy_text(seam->label, std::to_string(index + 1));
   return DEV_STATUS_OK;
 }
 

@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 9
+#define DEV_ABI_VERSION 10
 
 /* Status codes (values are stable). */
 enum {
@@ -226,6 +226,12 @@ typedef struct dev_stats {
                              of tolerance * AE and max_move * diagonal); 0: no limit */
   double flat_threshold;  /* rad: the |defect| under which a vertex counts as flat (1e-3) */
   double ruled_threshold; /* rad: the normals' spread under which a flat vertex counts as ruled */
+  /* ABI 10: */
+  char orientation_note[256]; /* what the run turned before it ran (orientation.h), the words dev_validate
+                                 gives after "ok: ": how many triangles were wound the other way, or
+                                 that the surface is one-sided and where it is cut. NUL-terminated,
+                                 never cut short; empty when every face agreed with its neighbours
+                                 as given */
 } dev_stats;
 
 /* Opaque result of one run; free with dev_result_free. */
@@ -262,7 +268,8 @@ DEV_API int32_t dev_run(const double* positions, int64_t n_vertices, const int32
  * (native/core/orientation.h), on a one-sided surface (a Möbius strip) everywhere but along a
  * short cut, and hand per-face and per-corner outputs back in the caller's winding. On
  * DEV_STATUS_OK the message is "ok", or "ok: " and a sentence saying what is turned (how many
- * triangles, or that the surface is one-sided and where it is cut). */
+ * triangles, or that the surface is one-sided and where it is cut); dev_run's result carries the
+ * same sentence (dev_stats.orientation_note), so a caller that runs needs no check first. */
 DEV_API int32_t dev_validate(const double* positions, int64_t n_vertices, const int32_t* triangles, int64_t n_triangles,
                              char* message, size_t message_capacity);
 

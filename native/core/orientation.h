@@ -77,7 +77,8 @@ FaceOrientation orient_faces(const Positions& positions, const Triangles& triang
 
 // What the turning did, in words for a user: "" when nothing was turned;
 // else how many faces were turned, or that the surface is one-sided and
-// where it is cut (edges and length).
+// where it is cut (edges and length). At most 243 bytes for fewer than 2^31
+// faces (the C ABI's limit), which dev_stats.orientation_note[256] relies on.
 std::string orientation_note(const FaceOrientation& orientation);
 
 // Per-face vectors (target normals) the engine computed on `turned`'s

@@ -15,7 +15,8 @@
 //   - the status is one of DEV_STATUS_*, the message NUL-terminated and never
 //     longer than its buffer, and *result is non-NULL exactly on OK;
 //   - on OK every accessor works, every position is finite, pinned vertices
-//     keep their input bits, and the figures are finite.
+//     keep their input bits, the figures are finite, and the run's note on
+//     what it turned is the input check's "ok: ..." message.
 // ASan/UBSan (the fuzz build has both) catch the memory and UB errors.
 //
 // Built by -DDEVELOPABLE_FUZZ=ON with clang (CMakeLists.txt); run by
@@ -30,6 +31,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace {
@@ -367,6 +369,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
   require(known_status(checked), "dev_validate returned an unknown status");
   check_message(message.data(), capacity);
   require(message[capacity] == '#', "dev_validate wrote past the message buffer");
+  const std::string checked_message(message.data());
 
   dev_result* result = reinterpret_cast<dev_result*>(&cancel);  // must be overwritten
   std::fill(message.begin(), message.end() - 1, 'x');
@@ -402,6 +405,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
     used.triangles.resize(static_cast<size_t>(3 * n_triangles));
     check_result(result, used, pins.empty() ? std::vector<uint8_t>() : used_pins,
                  !default_params && params.mode == DEV_MODE_PAPER);
+    // The run's note on what it turned: the input check's words, as far as its message buffer held them.
+    dev_stats s;
+    require(dev_result_stats(result, &s) == DEV_STATUS_OK, "dev_result_stats failed");
+    require(std::memchr(s.orientation_note, '\0', sizeof s.orientation_note) != nullptr,
+            "orientation_note is not NUL-terminated");
+    const std::string note(s.orientation_note);
+    require((note.empty() ? std::string("ok") : "ok: " + note).substr(0, capacity - 1) == checked_message,
+            "dev_run's orientation_note and dev_validate's message differ");
     dev_result_free(result);
   } else {
     require(result == nullptr, "a failed run returned a result");

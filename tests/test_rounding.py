@@ -26,7 +26,11 @@ def rounded_copies(positions):
 
 
 @pytest.mark.parametrize("name", ["hand_lowres", "spot_low_resolution"])
-def test_rounding_does_not_decide_a_whole_objects_flat_share(meshes_dir, name):
+def test_rounding_does_not_decide_a_whole_objects_developability(meshes_dir, name):
+    """The figure the order ranks a closed mesh by (selection.h, more_developable), the
+    flat-and-ruled share, within a tenth of the original's on every copy (hand 32 %: its
+    segmented result; spot 42.5 %: its thinned pieces, whose count the last bits move, 27 on
+    the original, 22 on the copies at 38.5-39 %: docs/method.md, "Known limits")."""
     positions, triangles = read_obj(meshes_dir / (name + ".obj"))
     reference = native.run(positions, triangles).stats
     assert reference["result"] == native.RESULT_IMPROVED
@@ -34,12 +38,11 @@ def test_rounding_does_not_decide_a_whole_objects_flat_share(meshes_dir, name):
         stats = native.run(copy, triangles).stats
         assert stats["result"] == native.RESULT_IMPROVED, label
         assert stats["faces_turned_over"] == 0, label
-        # Within a tenth of the original's flat share (hand 50 %, spot 52 %).
         assert (
-            stats["flat_share_after"] >= 0.9 * reference["flat_share_after"]
-        ), "%s %s: %.1f %% flat against %.1f %%" % (
+            stats["ruled_share_after"] >= 0.9 * reference["ruled_share_after"]
+        ), "%s %s: %.1f %% flat and ruled against %.1f %%" % (
             name,
             label,
-            100 * stats["flat_share_after"],
-            100 * reference["flat_share_after"],
+            100 * stats["ruled_share_after"],
+            100 * reference["ruled_share_after"],
         )

@@ -130,10 +130,10 @@ void DeformationRun::iterate(Judge& judge, Choice& choice, const Progress& progr
     targets_ahead = refit && iteration < options.max_iterations;
     if (targets_ahead) {
       run_concurrently({[&](const Progress&) { targets_.update(current, normals, iteration + 1); },
-                        [&](const Progress&) { now = judge.measure(current, normals, false); }},
+                        [&](const Progress&) { now = judge.measure(current, normals, Judge::Detail::iterate); }},
                        score_threads, progress);
     } else {
-      now = judge.measure(current, normals, false);
+      now = judge.measure(current, normals, Judge::Detail::iterate);
     }
     if (judge.admissible(now) && now.figures.score < choice.best_score) {
       choice.keep(current, now, ResultOrigin::deformation);
@@ -158,6 +158,9 @@ void DeformationRun::iterate(Judge& judge, Choice& choice, const Progress& progr
       break;
     }
   }
+  // The iterate kept competes with candidates (select): its rulings too.
+  if (choice.origin == ResultOrigin::deformation)
+    judge.complete(choice.measured, choice.positions, face_normals(choice.positions, input.triangles));
   stats_.time_iterate_ms = elapsed_ms(iterate_start);
 }
 

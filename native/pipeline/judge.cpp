@@ -39,17 +39,18 @@ Motion motion_of(const Positions& positions, const Positions& input) {
           (positions - input).rowwise().norm().maxCoeff()};
 }
 
-Judge::Judge(const Triangles& triangles, const std::vector<bool>& interior, const Normals& input_normals,
-             IterateScore score, Measured input, bool closed, CreaseGuard crease_guard)
+Judge::Judge(const Triangles& triangles, const std::vector<bool>& interior, const VertexFaces& connectivity,
+             const Normals& input_normals, IterateScore score, Measured input, bool closed, CreaseGuard crease_guard)
     : triangles_(triangles),
       interior_(interior),
+      connectivity_(connectivity),
       input_normals_(input_normals),
       score_(std::move(score)),
       input_(std::move(input)),
       closed_(closed),
       crease_guard_(std::move(crease_guard)) {}
 
-Measured Judge::measure(const Positions& positions, const Normals& normals, bool creases) const {
+Measured Judge::measure(const Positions& positions, const Normals& normals, Detail detail) const {
   Measured m;
   m.defects = angle_defects(positions, triangles_, interior_);
   const DefectStats stats = defect_stats(m.defects, interior_);
@@ -58,8 +59,19 @@ Measured Judge::measure(const Positions& positions, const Normals& normals, bool
   m.figures.flat = flat_share(m.defects, interior_);
   m.figures.turned = static_cast<Eigen::Index>(turned_over_faces(normals, input_normals_).size());
   m.figures.score = score_(m.defects);
-  if (creases) m.figures.creased = static_cast<Eigen::Index>(crease_guard_.creased_faces(normals).size());
+  if (detail == Detail::candidate) {
+    m.figures.creased = static_cast<Eigen::Index>(crease_guard_.creased_faces(normals).size());
+    complete(m, positions, normals);
+  }
   return m;
+}
+
+void Judge::complete(Measured& measured, const Positions& positions, const Normals& normals) const {
+  if (!closed_) return;
+  measured.figures.ruled =
+      vertex_shares(measured.defects, ruling_spreads(positions, triangles_, normals, connectivity_, interior_),
+                    interior_)
+          .ruled;
 }
 
 bool Judge::admissible(const Measured& candidate) {

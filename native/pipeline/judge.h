@@ -50,16 +50,28 @@ struct Measured {
 
 class Judge {
  public:
-  // input: the input's defects and figures (score by `score`); closed: the
-  // mesh has no boundary (admit); crease_guard: the run's (its patches and
-  // growth). The references must outlive this.
-  Judge(const Triangles& triangles, const std::vector<bool>& interior, const Normals& input_normals, IterateScore score,
-        Measured input, bool closed, CreaseGuard crease_guard);
+  // input: the input's defects and figures (score by `score`); connectivity:
+  // the faces around each vertex (the rulings); closed: the mesh has no
+  // boundary (admit); crease_guard: the run's (its patches and growth). The
+  // references must outlive this.
+  Judge(const Triangles& triangles, const std::vector<bool>& interior, const VertexFaces& connectivity,
+        const Normals& input_normals, IterateScore score, Measured input, bool closed, CreaseGuard crease_guard);
 
-  // The defects and figures of `positions` (face normals `normals`); with
-  // `creases` the faces the crease guard finds creased (the deformation's
-  // fold-safe steps crease nothing by construction: its iterates skip it).
-  Measured measure(const Positions& positions, const Normals& normals, bool creases = true) const;
+  // How much of a mesh measure() reads: a candidate's every figure, or a
+  // deformation iterate's defects and score only (its fold-safe steps crease
+  // nothing by construction, and iterates are chosen by score: the rulings
+  // of the one kept are read once, by complete()).
+  enum class Detail { candidate, iterate };
+
+  // The defects and figures of `positions` (face normals `normals`): with
+  // Detail::candidate also the faces the crease guard finds creased and, on
+  // a closed mesh, the flat-and-ruled share (the order reads it only there:
+  // more_developable).
+  Measured measure(const Positions& positions, const Normals& normals, Detail detail = Detail::candidate) const;
+
+  // The figures measure() leaves out for Detail::iterate, filled into
+  // `measured` of `positions`.
+  void complete(Measured& measured, const Positions& positions, const Normals& normals) const;
 
   // Whether a measured candidate may be returned (admit); the reasons of one
   // that scored better than the input but may not are kept.
@@ -72,6 +84,7 @@ class Judge {
  private:
   const Triangles& triangles_;
   const std::vector<bool>& interior_;
+  const VertexFaces& connectivity_;
   const Normals& input_normals_;
   IterateScore score_;
   Measured input_;

@@ -79,7 +79,8 @@ class Contest {
   // input's 3.2), or the smoothed shape's where that is higher.
   int winner() const {
     if (contestants_.empty()) return -1;
-    return select(contestants_, input_figures_, std::max(shape_roughness_, contestants_.front().roughness));
+    return select(contestants_, input_figures_, std::max(shape_roughness_, contestants_.front().roughness),
+                  input_.closed);
   }
 
   // The winner's RMS move: a candidate farther cannot win; infinity without one.

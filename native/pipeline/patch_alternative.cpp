@@ -23,11 +23,12 @@ Judge judge_of(const PatchRun& run) {
   Measured measured;
   measured.defects = input.measured.defect_before;
   measured.figures.flat = input.measured.stats.flat_share_before;
+  measured.figures.ruled = input.measured.stats.shares_before.ruled;
   measured.figures.mean = input.before.mean_abs;
   measured.figures.max = input.before.max_abs;
   measured.figures.score = score(measured.defects);
-  return Judge(input.triangles, input.measured.interior, input.normals, score, std::move(measured), input.closed,
-               CreaseGuard(input.triangles, input.normals, run.patch_ids, run.crease_growth));
+  return Judge(input.triangles, input.measured.interior, input.connectivity, input.normals, score, std::move(measured),
+               input.closed, CreaseGuard(input.triangles, input.normals, run.patch_ids, run.crease_growth));
 }
 
 // A mesh made of planes, cylinders and cones, its curvature on the seams
@@ -137,11 +138,10 @@ PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positio
   Choice choice = Choice::input(input, judge.input());
   const Normals normals = face_normals(candidate.positions, input.triangles);
   const Measured now = judge.measure(candidate.positions, normals);
-  const VertexShares shares =
-      vertex_shares(now.defects,
-                    ruling_spreads(candidate.positions, input.triangles, normals, input.connectivity,
-                                   input.measured.interior),
-                    input.measured.interior);
+  const VertexShares shares = vertex_shares(
+      now.defects,
+      ruling_spreads(candidate.positions, input.triangles, normals, input.connectivity, input.measured.interior),
+      input.measured.interior);
   const bool crumpled = shares.crumpled > input.measured.stats.shares_before.crumpled + kThinnedCrumpleSlack;
   if (judge.admissible(now) && now.figures.score < choice.best_score && !crumpled) {
     choice.keep(candidate.positions, now, ResultOrigin::thinned_pieces);

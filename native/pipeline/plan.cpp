@@ -55,7 +55,7 @@ bool crease_pieces_compete(double defect_excess) { return !(defect_excess >= kCr
 bool one_sheet_within_noise(const Figures& other, const Figures& input, double other_rms_motion, double noise) {
   Figures developable;
   developable.flat = 1.0;
-  return as_developable(other, developable, input) && other_rms_motion <= kCreaseMoveNoise * noise;
+  return as_developable(other, developable, input, false) && other_rms_motion <= kCreaseMoveNoise * noise;
 }
 
 bool others_compete(bool crease_pieces_improved, bool one_sheet) { return !crease_pieces_improved || one_sheet; }
@@ -136,6 +136,7 @@ std::optional<Patches> crease_pieces_of(const MeasuredInput& input, const Progre
 Figures figures_of(const PipelineResult& r) {
   Figures f;
   f.flat = r.stats.flat_share_after;
+  f.ruled = r.stats.shares_after.ruled;
   f.mean = r.stats.mean_defect_after;
   f.max = r.stats.max_defect_after;
   return f;
@@ -144,6 +145,7 @@ Figures figures_of(const PipelineResult& r) {
 Figures figures_of(const MeasuredInput& input) {
   Figures f;
   f.flat = input.measured.stats.flat_share_before;
+  f.ruled = input.measured.stats.shares_before.ruled;
   f.mean = input.before.mean_abs;
   f.max = input.before.max_abs;
   return f;
@@ -171,7 +173,7 @@ PipelineResult& preferred(const MeasuredInput& input, const std::vector<Pipeline
   // one-patch polish of a noisy input is rougher than a split run's result
   // and far more developable: a generalized cone on an irregular
   // triangulation, 100 % flat as one patch, 93 % in three).
-  const int winner = select(contestants, input_figures, std::numeric_limits<double>::infinity());
+  const int winner = select(contestants, input_figures, std::numeric_limits<double>::infinity(), input.closed);
   return *improved[static_cast<size_t>(std::max(winner, 0))];
 }
 
@@ -206,11 +208,10 @@ PipelineResult split_finer_if_unchanged(const MeasuredInput& input, Patches patc
 // A closed mesh split automatically: the segmented run (with its finer
 // split) beside the thinned-pieces generator's two candidates (thinned
 // pieces from creases and from the segmentation of the thinned mesh,
-// thinned_pieces.h), the one order choosing. The thinned candidates win
-// where they are more developable by the order's figures (torus 11.9 ->
-// 62 % flat, bunny 67 -> 69 % flat with 68 % flat and ruled instead of 44 %);
-// where today's flat-by-zigzag result has more flat vertices (human_woman,
-// spot) it stays (docs/segmentation.md, "Thinned pieces").
+// thinned_pieces.h), the one order choosing, on a closed mesh by the
+// flat-and-ruled share first (torus 11.4 -> 62 %, bunny 44.7 -> 68 %,
+// human_woman 33.6 -> 44.6 % flat and ruled, its crumpled share 31 -> 1.4 %;
+// docs/segmentation.md, "Thinned pieces").
 PipelineResult closed_alternatives(const MeasuredInput& input, Patches patches, const Progress& progress) {
   PipelineResult split = split_finer_if_unchanged(input, std::move(patches), progress.sub(0.0, 0.5));
   // A mesh developable as it stands, or piecewise (a torus of cone frusta),
@@ -225,13 +226,12 @@ PipelineResult closed_alternatives(const MeasuredInput& input, Patches patches, 
   // The two candidates side by side (each the same whatever thread runs it):
   // human_woman's generator 13 s of CPU, two thirds of it their polishes.
   PipelineResult creases, cones;
-  run_concurrently({[&](const Progress& share) {
-                      creases = run_thinned_alternative(input, thinned, PieceSource::creases, share);
-                    },
-                    [&](const Progress& share) {
-                      cones = run_thinned_alternative(input, thinned, PieceSource::segmentation, share);
-                    }},
-                   input.options.threads, progress.sub(0.6, 1.0));
+  run_concurrently(
+      {[&](const Progress& share) { creases = run_thinned_alternative(input, thinned, PieceSource::creases, share); },
+       [&](const Progress& share) {
+         cones = run_thinned_alternative(input, thinned, PieceSource::segmentation, share);
+       }},
+      input.options.threads, progress.sub(0.6, 1.0));
   PipelineResult& chosen = preferred(input, {&split, &creases, &cones});
   chosen.stats.time_total_ms = elapsed_ms(input.start_time);
   return std::move(chosen);

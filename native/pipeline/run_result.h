@@ -31,7 +31,7 @@ enum class ResultOrigin {
   smoothed_input_polish = 5,  // ... of the input with its noise smoothed (jet_denoise.h)
   smoothed_step_polish = 6,   // ... of that after one deformation step
   projected_input = 7,        // ... the input projected onto developable meshes from its smoothing
-  thinned_pieces = 8,         // the thinned-pieces generator (thinned_pieces.h): ruled pieces from the thinned Gauss image
+  thinned_pieces = 8,  // the thinned-pieces generator (thinned_pieces.h): ruled pieces from the thinned Gauss image
 };
 
 // Figures of an improved result a user sees worse than the input's, or-ed

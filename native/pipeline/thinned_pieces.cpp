@@ -2,8 +2,8 @@
 
 #include "core/measures.h"
 #include "deformation/deformation.h"
-#include "deformation/ruled_polish.h"
 #include "deformation/move_limit.h"
+#include "deformation/ruled_polish.h"
 #include "ideal_curve/gauss_thinning.h"
 #include "pipeline/patches.h"
 #include "segmentation/normal_jump_pieces.h"
@@ -120,8 +120,8 @@ Positions thin_whole(const MeasuredInput& input, const Progress& progress) {
   Positions thinned = input.positions;
   if (!(input.limit > 0.0)) return thinned;
   NormalGuidedDeformation deformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(input.triangles.rows()),
-                                      input.options.omega, kRefitCentroidWeight, Formulation::decoupled,
-                                      input.normals, input.options.threads);
+                                      input.options.omega, kRefitCentroidWeight, Formulation::decoupled, input.normals,
+                                      input.options.threads);
   const StepGuard free_guard(input, CreaseGuard(input.triangles, input.normals, {}, 0.0));
   thin(input, deformation, free_guard, {}, kThinningIterations, thinned, progress);
   return thinned;
@@ -139,7 +139,7 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   if (source == PieceSource::creases) {
     const int min_faces = static_cast<int>(std::max<Eigen::Index>(kSmallPieceFaces, m / kSmallPieceShare));
     out.pieces = normal_jump_pieces(input.triangles, input.connectivity, thinned_normals, kPieceCrease, min_faces,
-                               input.normals, kSegmentedCreaseGrowth);
+                                    input.normals, kSegmentedCreaseGrowth);
   } else {
     out.pieces = segmented_patches(thinned, input.triangles, thinned_normals, face_areas(thinned, input.triangles),
                                    input.connectivity, input.options, progress.sub(0.0, 0.05))
@@ -150,8 +150,7 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   NormalGuidedDeformation deformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(m), input.options.omega,
                                       kRefitCentroidWeight, Formulation::decoupled, input.normals,
                                       input.options.threads);
-  const StepGuard piece_guard(input,
-                              CreaseGuard(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth));
+  const StepGuard piece_guard(input, CreaseGuard(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth));
   piece_guard.heal(out.positions);
   thin(input, deformation, piece_guard, out.pieces, kPieceThinningIterations, out.positions, progress.sub(0.05, 0.5));
 

@@ -55,17 +55,17 @@ TEST(Selection, VisibleGainIsMoreFlatVerticesOrALowerMean) {
 // most 5 % above the larger of the other's and the input's.
 TEST(Selection, AsDevelopableAllowsOnePointOfFlatShareOnePercentOfTheMeanFivePercentOfTheLargest) {
   const Figures other = figures(0.90, 0.002, 0.6);
-  EXPECT_TRUE(as_developable(figures(0.89, 0.002 + 0.0001, 0.6), other, kInput));
-  EXPECT_FALSE(as_developable(figures(0.889, 0.002, 0.6), other, kInput));
-  EXPECT_FALSE(as_developable(figures(0.95, 0.002 + 0.000101, 0.6), other, kInput));
-  EXPECT_TRUE(as_developable(figures(0.95, 0.001, 0.63), other, kInput));
-  EXPECT_FALSE(as_developable(figures(0.95, 0.001, 0.631), other, kInput));
+  EXPECT_TRUE(as_developable(figures(0.89, 0.002 + 0.0001, 0.6), other, kInput, false));
+  EXPECT_FALSE(as_developable(figures(0.889, 0.002, 0.6), other, kInput, false));
+  EXPECT_FALSE(as_developable(figures(0.95, 0.002 + 0.000101, 0.6), other, kInput, false));
+  EXPECT_TRUE(as_developable(figures(0.95, 0.001, 0.63), other, kInput, false));
+  EXPECT_FALSE(as_developable(figures(0.95, 0.001, 0.631), other, kInput, false));
   const Figures small = figures(0.90, 0.002, 0.1);  // the input's largest (0.5) bounds
-  EXPECT_TRUE(as_developable(figures(0.95, 0.001, 0.525), small, kInput));
-  EXPECT_FALSE(as_developable(figures(0.95, 0.001, 0.526), small, kInput));
+  EXPECT_TRUE(as_developable(figures(0.95, 0.001, 0.525), small, kInput, false));
+  EXPECT_FALSE(as_developable(figures(0.95, 0.001, 0.526), small, kInput, false));
   // Not symmetric: the other way round the slack is the other's.
-  EXPECT_TRUE(as_developable(other, figures(0.905, 0.002, 0.6), kInput));
-  EXPECT_FALSE(as_developable(figures(0.905, 0.002, 0.6), figures(0.92, 0.002, 0.6), kInput));
+  EXPECT_TRUE(as_developable(other, figures(0.905, 0.002, 0.6), kInput, false));
+  EXPECT_FALSE(as_developable(figures(0.905, 0.002, 0.6), figures(0.92, 0.002, 0.6), kInput, false));
 }
 
 TEST(Selection, AllowedLargestDefectIsFivePercentAboveTheLarger) {
@@ -75,9 +75,38 @@ TEST(Selection, AllowedLargestDefectIsFivePercentAboveTheLarger) {
 
 // The developability order: the flat share first, then the mean |defect|.
 TEST(Selection, MoreDevelopableIsMoreFlatVerticesThenALowerMean) {
-  EXPECT_TRUE(more_developable(figures(0.91, 0.5, 9.0), figures(0.90, 0.001, 0.1)));
-  EXPECT_TRUE(more_developable(figures(0.90, 0.0009, 9.0), figures(0.90, 0.001, 0.1)));
-  EXPECT_FALSE(more_developable(figures(0.90, 0.001, 0.1), figures(0.90, 0.001, 0.1)));
+  EXPECT_TRUE(more_developable(figures(0.91, 0.5, 9.0), figures(0.90, 0.001, 0.1), false));
+  EXPECT_TRUE(more_developable(figures(0.90, 0.0009, 9.0), figures(0.90, 0.001, 0.1), false));
+  EXPECT_FALSE(more_developable(figures(0.90, 0.001, 0.1), figures(0.90, 0.001, 0.1), false));
+}
+
+Figures ruled(double flat, double flat_and_ruled, double mean) {
+  Figures f = figures(flat, mean, 0.5);
+  f.ruled = flat_and_ruled;
+  return f;
+}
+
+// On a closed mesh the flat-and-ruled share comes first: a crumpled vertex
+// (flat, not ruled) is not developable. On an open sheet it is not read.
+TEST(Selection, OnAClosedMeshTheFlatAndRuledShareComesFirst) {
+  const Figures crumpled = ruled(0.65, 0.34, 0.06);  // human_woman's flat-by-zigzag result
+  const Figures pieces = ruled(0.46, 0.45, 0.057);   // its thinned pieces
+  EXPECT_TRUE(more_developable(pieces, crumpled, true));
+  EXPECT_FALSE(more_developable(crumpled, pieces, true));
+  EXPECT_TRUE(more_developable(crumpled, pieces, false));
+  EXPECT_TRUE(more_developable(ruled(0.6, 0.45, 0.05), ruled(0.5, 0.45, 0.05), true));  // then the flat share
+  // As developable: one point of flat-and-ruled share, on a closed mesh only.
+  EXPECT_TRUE(as_developable(ruled(0.46, 0.44, 0.057), pieces, kInput, true));
+  EXPECT_FALSE(as_developable(ruled(0.46, 0.439, 0.057), pieces, kInput, true));
+  EXPECT_TRUE(as_developable(ruled(0.46, 0.0, 0.057), pieces, kInput, false));
+  // The order: the ruled result is the anchor on a closed mesh, the flat one elsewhere.
+  Contestant a, b;
+  a.figures = crumpled;
+  a.motion = {1.0, 1.0};
+  b.figures = pieces;
+  b.motion = {2.0, 2.0};
+  EXPECT_EQ(select({a, b}, kInput, 1.0, true), 1);
+  EXPECT_EQ(select({a, b}, kInput, 1.0, false), 0);
 }
 
 TEST(Selection, MovesLessComparesTheRmsMotion) {
@@ -105,36 +134,38 @@ Contestant contestant(double flat, double mean, double max, double rms, double l
 // moved least wins; it does not depend on the order they come in.
 TEST(Selection, SelectReturnsTheLeastMovingOfThoseAsDevelopableAsTheMostDevelopable) {
   const double reference = 0.010;
-  EXPECT_EQ(select({}, kInput, reference), -1);
+  EXPECT_EQ(select({}, kInput, reference, false), -1);
   const Contestant deformed = contestant(0.99, 1e-5, 0.1, 2.0, 6.0, 0.010);
   const Contestant polished_input = contestant(0.985, 2e-5, 0.1, 1.0, 4.0, 0.012);
   const Contestant rough = contestant(0.99, 1e-5, 0.1, 0.5, 2.0, 0.013);      // 1.3 times the reference
   const Contestant less_flat = contestant(0.97, 1e-5, 0.1, 0.1, 1.0, 0.010);  // 2 points below the anchor
-  EXPECT_EQ(select({deformed, polished_input}, kInput, reference), 1);
-  EXPECT_EQ(select({polished_input, deformed}, kInput, reference), 0);
-  EXPECT_EQ(select({deformed, rough}, kInput, reference), 0);
-  EXPECT_EQ(select({deformed, rough}, kInput, 0.011), 1);
-  EXPECT_EQ(select({rough}, kInput, reference), -1);  // too rough to take part at all
-  EXPECT_EQ(select({deformed, less_flat}, kInput, reference), 0);
-  EXPECT_EQ(select({less_flat, deformed}, kInput, reference), 1);
+  EXPECT_EQ(select({deformed, polished_input}, kInput, reference, false), 1);
+  EXPECT_EQ(select({polished_input, deformed}, kInput, reference, false), 0);
+  EXPECT_EQ(select({deformed, rough}, kInput, reference, false), 0);
+  EXPECT_EQ(select({deformed, rough}, kInput, 0.011, false), 1);
+  EXPECT_EQ(select({rough}, kInput, reference, false), -1);  // too rough to take part at all
+  EXPECT_EQ(select({deformed, less_flat}, kInput, reference, false), 0);
+  EXPECT_EQ(select({less_flat, deformed}, kInput, reference, false), 1);
   // A rough contestant is not the anchor, however developable.
-  EXPECT_EQ(select({less_flat, contestant(1.0, 0.0, 0.1, 3.0, 6.0, 0.02)}, kInput, reference), 0);
+  EXPECT_EQ(select({less_flat, contestant(1.0, 0.0, 0.1, 3.0, 6.0, 0.02)}, kInput, reference, false), 0);
   // A chain does not drift: c is as developable as b, b as a, but c is not as
   // developable as a, the anchor.
   const Contestant a = contestant(0.995, 1e-5, 0.1, 3.0, 6.0, 0.01);
   const Contestant b = contestant(0.988, 1e-5, 0.1, 2.0, 6.0, 0.01);
   const Contestant c = contestant(0.980, 1e-5, 0.1, 1.0, 6.0, 0.01);
-  EXPECT_EQ(select({a, b, c}, kInput, reference), 1);
-  EXPECT_EQ(select({c, b, a}, kInput, reference), 1);
+  EXPECT_EQ(select({a, b, c}, kInput, reference, false), 1);
+  EXPECT_EQ(select({c, b, a}, kInput, reference, false), 1);
   // at_most_as_far: no vertex farther than every other contestant's farthest.
   const Contestant projected = contestant(0.99, 1e-6, 0.1, 1.0, 5.0, 0.01, true);
-  EXPECT_EQ(select({deformed, projected}, kInput, reference), 1);
-  EXPECT_EQ(select({deformed, polished_input, projected}, kInput, reference), 1);  // 5 > 4: out, polished_input wins
-  EXPECT_EQ(select({deformed, contestant(0.99, 1e-6, 0.1, 0.5, 4.0, 0.01, true), polished_input}, kInput, reference),
-            1);  // 4 is no farther: it takes part, and moved least
+  EXPECT_EQ(select({deformed, projected}, kInput, reference, false), 1);
+  EXPECT_EQ(select({deformed, polished_input, projected}, kInput, reference, false),
+            1);  // 5 > 4: out, polished_input wins
+  EXPECT_EQ(
+      select({deformed, contestant(0.99, 1e-6, 0.1, 0.5, 4.0, 0.01, true), polished_input}, kInput, reference, false),
+      1);  // 4 is no farther: it takes part, and moved least
   // Ties in motion go to the anchor, then to the first.
   EXPECT_EQ(select({contestant(0.98, 1e-5, 0.1, 1.0, 1.0, 0.01), deformed, contestant(0.99, 1e-5, 0.1, 1.0, 1.0, 0.01)},
-                   kInput, reference),
+                   kInput, reference, false),
             0);
 }
 

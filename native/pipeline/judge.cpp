@@ -40,7 +40,8 @@ Motion motion_of(const Positions& positions, const Positions& input) {
 }
 
 Judge::Judge(const Triangles& triangles, const std::vector<bool>& interior, const VertexFaces& connectivity,
-             const Normals& input_normals, IterateScore score, Measured input, bool closed, CreaseGuard crease_guard)
+             const Normals& input_normals, IterateScore score, Measured input, bool closed, bool object,
+             CreaseGuard crease_guard)
     : triangles_(triangles),
       interior_(interior),
       connectivity_(connectivity),
@@ -48,6 +49,7 @@ Judge::Judge(const Triangles& triangles, const std::vector<bool>& interior, cons
       score_(std::move(score)),
       input_(std::move(input)),
       closed_(closed),
+      object_(object),
       crease_guard_(std::move(crease_guard)) {}
 
 Measured Judge::measure(const Positions& positions, const Normals& normals, Detail detail) const {
@@ -67,7 +69,7 @@ Measured Judge::measure(const Positions& positions, const Normals& normals, Deta
 }
 
 void Judge::complete(Measured& measured, const Positions& positions, const Normals& normals) const {
-  if (!closed_) return;
+  if (!object_) return;
   measured.figures.ruled =
       vertex_shares(measured.defects, ruling_spreads(positions, triangles_, normals, connectivity_, interior_),
                     interior_)

@@ -52,10 +52,12 @@ class Judge {
  public:
   // input: the input's defects and figures (score by `score`); connectivity:
   // the faces around each vertex (the rulings); closed: the mesh has no
-  // boundary (admit); crease_guard: the run's (its patches and growth). The
+  // boundary (admit); object: a whole object (is_object), whose rulings the
+  // order reads; crease_guard: the run's (its patches and growth). The
   // references must outlive this.
   Judge(const Triangles& triangles, const std::vector<bool>& interior, const VertexFaces& connectivity,
-        const Normals& input_normals, IterateScore score, Measured input, bool closed, CreaseGuard crease_guard);
+        const Normals& input_normals, IterateScore score, Measured input, bool closed, bool object,
+        CreaseGuard crease_guard);
 
   // How much of a mesh measure() reads: a candidate's every figure, or a
   // deformation iterate's defects and score only (its fold-safe steps crease
@@ -65,7 +67,7 @@ class Judge {
 
   // The defects and figures of `positions` (face normals `normals`): with
   // Detail::candidate also the faces the crease guard finds creased and, on
-  // a closed mesh, the flat-and-ruled share (the order reads it only there:
+  // an object, the flat-and-ruled share (the order reads it only there:
   // more_developable).
   Measured measure(const Positions& positions, const Normals& normals, Detail detail = Detail::candidate) const;
 
@@ -89,6 +91,7 @@ class Judge {
   IterateScore score_;
   Measured input_;
   bool closed_;
+  bool object_;
   CreaseGuard crease_guard_;
   Rejections rejected_;
 };

@@ -80,7 +80,7 @@ class Contest {
   int winner() const {
     if (contestants_.empty()) return -1;
     return select(contestants_, input_figures_, std::max(shape_roughness_, contestants_.front().roughness),
-                  input_.closed);
+                  input_.object);
   }
 
   // The winner's RMS move: a candidate farther cannot win; infinity without one.

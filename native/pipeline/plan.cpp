@@ -19,13 +19,13 @@
 
 namespace developable {
 
-bool splits_automatically(bool closed, double one_patch_fit_error) {
-  return closed || one_patch_fit_error > kAutoSegmentationError;
+bool splits_automatically(bool object, double one_patch_fit_error) {
+  return object || one_patch_fit_error > kAutoSegmentationError;
 }
 
-bool wants_second_opinion(const PipelineOptions& options, int patch_count, bool closed, Eigen::Index interior_vertices,
+bool wants_second_opinion(const PipelineOptions& options, int patch_count, bool object, Eigen::Index interior_vertices,
                           double mean_defect) {
-  return options.segmentation == -1 && patch_count > 1 && !closed && interior_vertices <= kSecondOpinionVertices &&
+  return options.segmentation == -1 && patch_count > 1 && !object && interior_vertices <= kSecondOpinionVertices &&
          mean_defect > options.developable_threshold;
 }
 
@@ -173,7 +173,7 @@ PipelineResult& preferred(const MeasuredInput& input, const std::vector<Pipeline
   // one-patch polish of a noisy input is rougher than a split run's result
   // and far more developable: a generalized cone on an irregular
   // triangulation, 100 % flat as one patch, 93 % in three).
-  const int winner = select(contestants, input_figures, std::numeric_limits<double>::infinity(), input.closed);
+  const int winner = select(contestants, input_figures, std::numeric_limits<double>::infinity(), input.object);
   return *improved[static_cast<size_t>(std::max(winner, 0))];
 }
 
@@ -182,7 +182,7 @@ Patches segmented(const MeasuredInput& input, const PipelineOptions& options, co
                            progress);
 }
 
-// The segmented run of a closed mesh, and, where it came back unchanged
+// The segmented run of a whole object, and, where it came back unchanged
 // (splits_finer), the run on twice as many patches if that improved. On 17
 // random closed objects of devkit/objects.py that came back unchanged (seeds
 // 0-9), 7 improve so (tori 4 -> 35 %, 6 -> 42 % flat, a limb 6 -> 48 %, a blob
@@ -205,14 +205,14 @@ PipelineResult split_finer_if_unchanged(const MeasuredInput& input, Patches patc
   return std::move(chosen);
 }
 
-// A closed mesh split automatically: the segmented run (with its finer
+// A whole object (is_object) split automatically: the segmented run (with its finer
 // split) beside the thinned-pieces generator's two candidates (thinned
 // pieces from creases and from the segmentation of the thinned mesh,
-// thinned_pieces.h), the one order choosing, on a closed mesh by the
+// thinned_pieces.h), the one order choosing, on an object by the
 // flat-and-ruled share first (torus 11.4 -> 62 %, bunny 44.7 -> 68 %,
 // human_woman 33.6 -> 44.6 % flat and ruled, its crumpled share 31 -> 1.4 %;
 // docs/segmentation.md, "Thinned pieces").
-PipelineResult closed_alternatives(const MeasuredInput& input, Patches patches, const Progress& progress) {
+PipelineResult object_alternatives(const MeasuredInput& input, Patches patches, const Progress& progress) {
   PipelineResult split = split_finer_if_unchanged(input, std::move(patches), progress.sub(0.0, 0.5));
   // A mesh developable as it stands, or piecewise (a torus of cone frusta),
   // has nothing to gain: it comes back as it is.
@@ -243,13 +243,13 @@ PipelineResult closed_alternatives(const MeasuredInput& input, Patches patches, 
 PipelineResult run_without_crease_pieces(const MeasuredInput& input, const Progress& progress) {
   const PipelineOptions& options = input.options;
   Patches single;
-  if (options.segmentation == -1 && !input.closed) {
+  if (options.segmentation == -1 && !input.object) {
     single = one_patch(input.normals, input.areas, options);
-    if (!splits_automatically(input.closed, curve_fit_error(input.normals, single.targets, input.areas)))
+    if (!splits_automatically(input.object, curve_fit_error(input.normals, single.targets, input.areas)))
       return run_patch_alternative(input, std::move(single), progress);
   }
   Patches patches = segmented(input, options, progress);
-  if (wants_second_opinion(options, patches.count, input.closed, input.measured.stats.interior_vertices,
+  if (wants_second_opinion(options, patches.count, input.object, input.measured.stats.interior_vertices,
                            input.before.mean_abs)) {
     PipelineResult split = run_patch_alternative(input, std::move(patches), progress.sub(0.05, 0.55));
     PipelineResult whole = run_patch_alternative(input, std::move(single), progress.sub(0.55, 1.0));
@@ -257,9 +257,9 @@ PipelineResult run_without_crease_pieces(const MeasuredInput& input, const Progr
     chosen.stats.time_total_ms = elapsed_ms(input.start_time);
     return std::move(chosen);
   }
-  if (!input.closed || options.segmentation_options.target_patches > 0)
+  if (!input.object || options.segmentation_options.target_patches > 0)
     return run_patch_alternative(input, std::move(patches), progress);
-  return closed_alternatives(input, std::move(patches), progress);
+  return object_alternatives(input, std::move(patches), progress);
 }
 
 }  // namespace

@@ -3,9 +3,9 @@
 // image; the pieces the curvature already cuts the mesh into; the pieces the
 // crease lines of a noisy mesh part it into (beside the alternatives below
 // where the input may be one developable sheet); else the segmentation's
-// patches, with a second opinion (the same mesh as one patch) on small open
-// meshes, a finer split when a closed mesh came back unchanged and, beside
-// the segmented run of a closed mesh, the thinned-pieces generator's
+// patches, with a second opinion (the same mesh as one patch) on small
+// meshes, a finer split when a whole object came back unchanged and, beside
+// the segmented run of a whole object, the thinned-pieces generator's
 // candidates (thinned_pieces.h). The decisions are pure functions
 // (tests/unit/plan_test.cpp).
 #pragma once
@@ -30,23 +30,24 @@ inline constexpr double kAutoSegmentationError = 0.12;
 // which a 1k-vertex family mesh pays in 0.1-0.5 s.
 inline constexpr Eigen::Index kSecondOpinionVertices = 10000;
 
-// Whether automatic segmentation splits a mesh: always when it is closed (a
-// closed surface is never one developable piece: its curvature sums to
-// 4 pi on a sphere-like one; the fit of one curve let rounded boxes through,
+// Whether automatic segmentation splits a mesh: always when it is a whole
+// object (is_object, selection.h: closed, or of total curvature at least pi;
+// such a surface is never one developable piece: its curvature sums to 4 pi
+// on a sphere-like one; the fit of one curve let rounded boxes through,
 // their flat sides carrying most of the area), else when the one-patch
 // curves miss the normals by more than kAutoSegmentationError (rad, RMS).
-bool splits_automatically(bool closed, double one_patch_fit_error);
+bool splits_automatically(bool object, double one_patch_fit_error);
 
-// Whether a split open mesh is also run as one patch: automatic
-// segmentation, more than one patch, a boundary, up to kSecondOpinionVertices
+// Whether a split mesh is also run as one patch: automatic segmentation,
+// more than one patch, not a whole object, up to kSecondOpinionVertices
 // interior vertices, and curvature to lose. The misfit that chose the split
 // also grows where the fit of one curve fails on a developable (a coarse or
 // noisy Gauss image the fit calls a blob), and there the split run is worse
 // on every figure.
-bool wants_second_opinion(const PipelineOptions& options, int patch_count, bool closed, Eigen::Index interior_vertices,
+bool wants_second_opinion(const PipelineOptions& options, int patch_count, bool object, Eigen::Index interior_vertices,
                           double mean_defect);
 
-// Whether a closed mesh split automatically is split again twice as finely:
+// Whether a whole object split automatically is split again twice as finely:
 // its run came back unchanged because every better candidate was
 // inadmissible, none was better, or none showed a gain (not because it was
 // developable already): smaller patches gather less curvature on each seam.

@@ -80,7 +80,7 @@ void polish_nearly_flat(const PatchRun& run, const PolishOptions& options, Judge
     if (finished.iterations == 0) break;
     const Measured now = judge.measure(finished.positions, face_normals(finished.positions, input.triangles));
     if (!judge.admissible(now) || now.figures.flat <= choice.measured.figures.flat ||
-        !as_developable(now.figures, bar, judge.input().figures, input.closed))
+        !as_developable(now.figures, bar, judge.input().figures, input.object))
       break;
     const double gain = now.figures.flat - choice.measured.figures.flat;
     choice.keep(finished.positions, now, ResultOrigin::near_flat_polish);

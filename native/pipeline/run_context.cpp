@@ -2,6 +2,7 @@
 
 #include "core/mesh_input.h"
 #include "pipeline/messages.h"
+#include "pipeline/selection.h"
 
 #include <algorithm>
 
@@ -54,6 +55,10 @@ MeasuredInput measure_input(const Positions& positions, const Triangles& triangl
   input.closed = true;
   for (Eigen::Index v = 0; v < positions.rows(); ++v)
     input.closed = input.closed && (connectivity.count(v) == 0 || measured.interior[static_cast<size_t>(v)]);
+  double total_curvature = 0.0;
+  for (Eigen::Index v = 0; v < positions.rows(); ++v)
+    if (measured.interior[static_cast<size_t>(v)]) total_curvature += measured.defect_before[v];
+  input.object = is_object(input.closed, total_curvature);
   return input;
 }
 

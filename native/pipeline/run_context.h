@@ -38,6 +38,7 @@ struct MeasuredInput {
   Normals normals;           // per face
   Eigen::VectorXd areas;     // per face
   bool closed = false;       // every vertex a triangle uses is interior
+  bool object = false;       // a whole object, not one sheet (is_object, selection.h)
 };
 
 // Measures the input (stage 2). Throws EngineError(no_interior_vertex),

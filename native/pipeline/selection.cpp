@@ -1,6 +1,7 @@
 #include "pipeline/selection.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace developable {
@@ -20,8 +21,10 @@ bool visible_gain(const Figures& result, const Figures& input) {
   return result.flat > input.flat || result.mean < (1.0 - kLeastGain) * input.mean;
 }
 
-bool as_developable(const Figures& candidate, const Figures& other, const Figures& input, bool closed) {
-  if (closed && candidate.ruled < other.ruled - kFlatSlack) return false;
+bool is_object(bool closed, double total_curvature) { return closed || total_curvature >= kObjectCurvature; }
+
+bool as_developable(const Figures& candidate, const Figures& other, const Figures& input, bool object) {
+  if (object && candidate.ruled < other.ruled - kFlatSlack) return false;
   return candidate.flat >= other.flat - kFlatSlack && candidate.mean <= other.mean + kDefectSlack * input.mean &&
          candidate.max <= allowed_largest_defect(other.max, input.max);
 }
@@ -30,8 +33,8 @@ double allowed_largest_defect(double other, double input) {
   return (1.0 + kLargestDefectGrowth) * std::max(other, input);
 }
 
-bool more_developable(const Figures& a, const Figures& b, bool closed) {
-  if (closed && a.ruled != b.ruled) return a.ruled > b.ruled;
+bool more_developable(const Figures& a, const Figures& b, bool object) {
+  if (object && a.ruled != b.ruled) return a.ruled > b.ruled;
   return a.flat > b.flat || (a.flat == b.flat && a.mean < b.mean);
 }
 
@@ -39,7 +42,7 @@ bool moves_less(const Motion& candidate, const Motion& other) { return candidate
 
 bool smooth_enough(double roughness, double reference) { return roughness <= kLeastMoveRoughness * reference; }
 
-int select(const std::vector<Contestant>& contestants, const Figures& input, double reference_roughness, bool closed) {
+int select(const std::vector<Contestant>& contestants, const Figures& input, double reference_roughness, bool object) {
   const int count = static_cast<int>(contestants.size());
   double nearest = std::numeric_limits<double>::infinity();  // the smallest largest move of the others
   for (const Contestant& c : contestants)
@@ -52,14 +55,14 @@ int select(const std::vector<Contestant>& contestants, const Figures& input, dou
   int anchor = -1;
   for (int i = 0; i < count; ++i)
     if (takes_part(i) && (anchor < 0 || more_developable(contestants[static_cast<size_t>(i)].figures,
-                                                         contestants[static_cast<size_t>(anchor)].figures, closed)))
+                                                         contestants[static_cast<size_t>(anchor)].figures, object)))
       anchor = i;
   if (anchor < 0) return -1;
   const Contestant& a = contestants[static_cast<size_t>(anchor)];
   int winner = anchor;
   for (int i = 0; i < count; ++i) {
     const Contestant& c = contestants[static_cast<size_t>(i)];
-    if (i != anchor && takes_part(i) && as_developable(c.figures, a.figures, input, closed) &&
+    if (i != anchor && takes_part(i) && as_developable(c.figures, a.figures, input, object) &&
         moves_less(c.motion, contestants[static_cast<size_t>(winner)].motion))
       winner = i;
   }

@@ -22,6 +22,19 @@ namespace developable {
 // cancel (the 1280-face sphere: 0 -> 32 % flat for +3.6 %).
 inline constexpr double kClosedMeshGrowth = 0.05;
 
+// An open surface whose interior angle defects sum to at least this (rad)
+// wraps around something, as a whole object does (is_object). The sum is
+// its total Gaussian curvature: noise cancels in it (seeded noisy sheets of
+// every family: -0.26 to 0.26 rad); a closed surface has 4 pi (1 - genus);
+// an open one that caps or wraps keeps most of a sphere's (hand_lowres, open
+// at the wrist: 6.2; a box without a bottom 6.3; a paper cup about 5), one
+// that branches has a negative sum (tees and Y-branches of tubes -2 pi, the
+// dress -1.9): those are assemblies of developable pieces, whose candidates
+// differ by the noise on their rulings (ranked by the flat-and-ruled share
+// a noisy Y-branch went to a candidate 10.3 times the noise from its twin
+// instead of 2.3).
+inline constexpr double kObjectCurvature = M_PI;
+
 // A result must score at least this fraction below the input: less is
 // rounding, not an improvement (the benchmark's noise-free wavy cone of 100k
 // faces, flat from the start, was "improved" by 2e-14 of its mean |defect|
@@ -50,7 +63,7 @@ inline constexpr double kLeastMoveRoughness = 1.25;
 // What the rule reads of a candidate mesh, measured against the user's input.
 struct Figures {
   double flat = 0.0;         // share of the interior vertices with |defect| < kFlatDefect, 0..1
-  double ruled = 0.0;        // share of the interior vertices flat and ruled (vertex_shares), 0..1; closed meshes
+  double ruled = 0.0;        // share of the interior vertices flat and ruled (vertex_shares), 0..1; objects
   double mean = 0.0;         // mean |defect| over the interior (rad)
   double max = 0.0;          // largest |defect| over the interior (rad)
   double score = 0.0;        // the run's score (IterateScore, rad): lower is better
@@ -90,20 +103,26 @@ Admission admit(const Figures& candidate, const Figures& input, bool closed);
 // nothing.
 bool visible_gain(const Figures& result, const Figures& input);
 
+// Whether a surface is a whole object (the order reads its flat-and-ruled
+// share first, the plan tries its thinned pieces): closed, or of total
+// Gaussian curvature `total_curvature` (rad, the signed sum of its interior
+// angle defects) at least kObjectCurvature.
+bool is_object(bool closed, double total_curvature);
+
 // Whether `candidate` is as developable as `other`, both results of one
-// input: its flat share at most kFlatSlack lower (on a closed mesh its
+// input: its flat share at most kFlatSlack lower (on an object its
 // flat-and-ruled share too), its mean |defect| at most kDefectSlack of the
 // input's mean higher, its largest |defect| within allowed_largest_defect of
 // other's and the input's.
-bool as_developable(const Figures& candidate, const Figures& other, const Figures& input, bool closed);
+bool as_developable(const Figures& candidate, const Figures& other, const Figures& input, bool object);
 
 // The largest |defect| a candidate as developable as another may have:
 // kLargestDefectGrowth above the larger of the other's and the input's.
 double allowed_largest_defect(double other, double input);
 
 // The developability order: more flat vertices, then a lower mean |defect|;
-// on a closed mesh more flat-and-ruled vertices first. A closed surface
-// cannot lose its curvature (Gauss-Bonnet), only gather it on seams or
+// on a whole object (is_object) more flat-and-ruled vertices first. Its
+// curvature cannot go (Gauss-Bonnet), only gather on seams or
 // crumple it into zigzags of facets whose vertices are flat but not ruled,
 // and the flat share rewards the crumpling (human_woman 65 % flat, 34 % flat
 // and ruled, against the thinned pieces' 46 % and 45 %). On an open sheet
@@ -111,7 +130,7 @@ double allowed_largest_defect(double other, double input);
 // pieces: ranked by the ruled share first, 16 of 177 sheets of the
 // regression set went to candidates up to 8 times as far from their
 // noise-free twins (docs/method.md, "The rule").
-bool more_developable(const Figures& a, const Figures& b, bool closed);
+bool more_developable(const Figures& a, const Figures& b, bool object);
 
 // How far a candidate moved the input: RMS over the vertices, and its
 // largest vertex move (caller's units).
@@ -148,7 +167,7 @@ struct Contestant {
 // (RMS) wins, the anchor on a tie, else the first. It does not depend on the
 // order the contestants come in but for ties. Returns the winner's index; -1
 // when none takes part.
-int select(const std::vector<Contestant>& contestants, const Figures& input, double reference_roughness, bool closed);
+int select(const std::vector<Contestant>& contestants, const Figures& input, double reference_roughness, bool object);
 
 // Why candidates better than the input were not returned, counted as they
 // are judged: the reasons an unchanged run's message names.

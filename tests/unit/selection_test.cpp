@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace developable {
 namespace {
 
@@ -86,7 +88,18 @@ Figures ruled(double flat, double flat_and_ruled, double mean) {
   return f;
 }
 
-// On a closed mesh the flat-and-ruled share comes first: a crumpled vertex
+// A whole object: closed, or an open surface whose curvature sums to at
+// least pi (kObjectCurvature); a branching one (negative sum) is not.
+TEST(Selection, AWholeObjectIsClosedOrWrapsAroundSomething) {
+  EXPECT_TRUE(is_object(true, 0.0));   // a torus
+  EXPECT_TRUE(is_object(false, 6.2));  // a hand open at the wrist
+  EXPECT_TRUE(is_object(false, M_PI));
+  EXPECT_FALSE(is_object(false, M_PI - 1e-9));
+  EXPECT_FALSE(is_object(false, 0.26));         // a noisy sheet
+  EXPECT_FALSE(is_object(false, -2.0 * M_PI));  // a tee of tubes
+}
+
+// On a whole object the flat-and-ruled share comes first: a crumpled vertex
 // (flat, not ruled) is not developable. On an open sheet it is not read.
 TEST(Selection, OnAClosedMeshTheFlatAndRuledShareComesFirst) {
   const Figures crumpled = ruled(0.65, 0.34, 0.06);  // human_woman's flat-by-zigzag result

@@ -147,6 +147,8 @@ def measure(label, positions, triangles, result):
         "max_before": float(before[interior].max()),
         "max_after": float(after[interior].max()),
         "iterations": int(s["iterations"]),
+        "origin": native.ORIGIN_NAMES.get(s["result_origin"], str(s["result_origin"])),
+        "ruled_after": float(s["ruled_share_after"]),
         "stop": native.STOP_REASONS[s["stop_reason"]],
         "t_d": s["time_decompose_ms"],
         "t_i": s["time_iterate_ms"],
@@ -312,8 +314,9 @@ def write_report(path, info, runs, patches, mesh_name, pictures):
         "%.2e to %.2e rad and the share of flat interior vertices goes from %s to %s, within "
         "%.2f %% of the bounding-box diagonal — the issue's goal (half the interior vertices "
         "flat, within 1 %% of the diagonal)%s. The defaults reach %s flat (median inside "
-        "%.2e rad) with %d larger patches, but with their 10 AE tolerance they move the "
-        "surface by %.2f %% of the diagonal (largest move %.1f AE)."
+        "%.2e rad) with %d %s patches, but with their 10 AE tolerance they move the "
+        "surface by %.2f %% of the diagonal (largest move %.1f AE). Their result is the %s "
+        "generator's: %s of the interior vertices flat and ruled, %s crumpled (flat, not ruled)."
         % (
             4 * np.pi,
             goal["total_before"],
@@ -331,8 +334,12 @@ def write_report(path, info, runs, patches, mesh_name, pictures):
             pct(defaults["flat_after"]),
             defaults["median_after"],
             defaults["patches"],
+            "larger" if defaults["patches"] < goal["patches"] else "smaller",
             100 * defaults["hausdorff"],
             defaults["move_ae"],
+            defaults["origin"].replace("_", " "),
+            pct(defaults["ruled_after"]),
+            pct(defaults["flat_after"] - defaults["ruled_after"]),
         )
     )
     add("")

@@ -265,3 +265,48 @@ def random_case(kind, seed, faces=(1000, 20000), noise=(0.0, 0.02)):
     count = int(np.exp(rng.uniform(np.log(faces[0]), np.log(faces[1]))))
     amplitude = float(rng.uniform(*noise)) if seed % 2 else 0.0
     return make(kind, count, amplitude, seed, alternating=bool(rng.integers(2)))
+
+
+def open_case(kind, seed, keep=(0.55, 0.85)):
+    """random_case cut open by a plane: an object with a boundary that still wraps around
+    something (a hand at the wrist, a cap, a box without its lid). The plane's normal and the
+    share of the object's height kept (uniform in `keep`) are drawn from `seed`; the faces whose
+    centroid lies on the far side go, and the largest edge-connected rest is returned,
+    reindexed. Returns an ObjectMesh (its info holds the plane)."""
+    m = random_case(kind, seed)
+    rng = np.random.default_rng([seed, 7919, KINDS.index(kind)])
+    direction = rng.standard_normal(3)
+    direction /= np.linalg.norm(direction)
+    heights = m.clean @ direction
+    cut = float(np.quantile(heights, rng.uniform(*keep)))
+    kept = m.triangles[heights[m.triangles].mean(axis=1) <= cut]
+    kept = kept[_largest_component(kept)]
+    used = np.unique(kept)
+    remap = np.full(len(m.positions), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    info = dict(m.info, direction=direction, cut=cut)
+    return ObjectMesh(kind, seed, m.noise, m.positions[used], m.clean[used], remap[kept].astype(np.int32), info)
+
+
+def _largest_component(triangles):
+    """Mask of the faces of the largest edge-connected component (union-find over shared edges)."""
+    n = len(triangles)
+    parent = np.arange(n)
+
+    def find(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
+    faces = np.tile(np.arange(n), 3)
+    order = np.lexsort((edges[:, 1], edges[:, 0]))
+    edges, faces = edges[order], faces[order]
+    same = np.all(edges[1:] == edges[:-1], axis=1)
+    for a, b in zip(faces[:-1][same], faces[1:][same]):
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[ra] = rb
+    roots = np.array([find(f) for f in range(n)])
+    return roots == np.bincount(roots).argmax()

@@ -81,7 +81,7 @@ FIRST = (
 # on the 2-core machine and is covered in kind by a quicker test: the engine suite
 # again under ASan/UBSan and the fuzz run (their builds alone take minutes after a
 # change to native/), the two-million-face refusal, the held-out sweeps of the
-# families and closed objects, the human figure's rasterised sheets, the larger
+# families and of closed and open objects, the human figure's rasterised sheets, the larger
 # meshes' least motion, and the add-on on the bpy wheels (4.2, 5.0: Blender 3.4
 # runs every add-on test). CI and scripts/test.sh run everything.
 SLOW = (
@@ -90,6 +90,7 @@ SLOW = (
     "test_hardening.py::test_the_coupled_solver_is_refused_sooner",
     "test_families.py",
     "test_objects.py",
+    "test_objects_pieces.py::test_open_objects_come_back_flat_and_ruled",
     "test_assemblies_engine.py",
     "test_pattern.py::test_rasterised_sheets_are_not_blank",
     "test_segmentation.py::test_human_woman_is_made_piecewise_developable",

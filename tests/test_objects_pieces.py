@@ -69,3 +69,33 @@ def test_objects_come_back_as_ruled_pieces(case, lowest, meshes_dir):
         1 + 1e-6
     )
     assert s["patches"] == len(np.unique(r.patch_ids)) > 1
+
+
+# Open objects (devkit/objects.py open_case: a seeded object cut by a random plane; nothing was
+# tuned on them): each wraps around something (its curvature sums to 4.4-9.3 rad, selection.h
+# is_object), so it is planned and ordered as a closed one. Measured 2026-12-05 (flat and ruled
+# before -> after): blobs 100-103 3.9 -> 66.7, 3.5 -> 60.5, 50.9 -> 90.8, 1.9 -> 53.5 %; limbs
+# 2.3 -> 54.8, 12.7 -> 74.8, 26.6 -> 85.4, 4.9 -> 67.7 % (before the object rule: 35-66 %, with up
+# to 26 % crumpled). Limb 101 keeps its segmented run's nearly flat polish, 3.6 % crumpled against
+# the input's 0.3 %: beyond issue 35's 3 points.
+OPEN_CASES = [
+    pytest.param(kind, seed, marks=pytest.mark.xfail(strict=True, reason="3.3 points more crumpled"))
+    if (kind, seed) == ("limb", 101)
+    else (kind, seed)
+    for kind in ("blob", "limb")
+    for seed in (100, 101, 102, 103)
+]
+
+
+@pytest.mark.parametrize("kind, seed", OPEN_CASES)
+def test_open_objects_come_back_flat_and_ruled(kind, seed):
+    m = objects.open_case(kind, seed)
+    r = native.run(m.positions, m.triangles)
+    check_honest(m.positions, m.triangles, r)
+    before = developability_figures(m.positions, m.triangles)
+    after = developability_figures(r.positions, m.triangles)
+    assert after["flat_and_ruled"] >= before["flat_and_ruled"] + 0.25, (kind, seed, before, after)
+    assert after["crumpled"] <= before["crumpled"] + CRUMPLE_SLACK, (kind, seed, before, after)
+    assert sampled_hausdorff(r.positions, m.triangles, m.positions, m.triangles) <= 0.01 * bbox_diagonal(
+        m.positions
+    ) * (1 + 1e-6)

@@ -27,25 +27,20 @@ def _tables(markdown):
     return tables
 
 
+def run_bench(repo_dir, script, *args):
+    """Runs bench/`script` with `args` under this interpreter; fails the test with its output's
+    tail unless it exits 0."""
+    proc = subprocess.run(
+        [sys.executable, str(repo_dir / "bench" / script), *args], capture_output=True, text=True, timeout=600
+    )
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+
+
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory, build_dir, repo_dir):
     out = tmp_path_factory.mktemp("bench")
     docs_before = {p.name: p.stat().st_mtime_ns for p in (repo_dir / "docs").glob("*")}
-    proc = subprocess.run(
-        [
-            sys.executable,
-            str(repo_dir / "bench" / "run.py"),
-            "--quick",
-            "--out",
-            str(out),
-            "--build-dir",
-            str(build_dir),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    run_bench(repo_dir, "run.py", "--quick", "--out", str(out), "--build-dir", str(build_dir))
     docs_after = {p.name: p.stat().st_mtime_ns for p in (repo_dir / "docs").glob("*")}
     return out, docs_before, docs_after
 
@@ -107,25 +102,19 @@ def test_the_scan_benchmark_runs_and_measures_what_it_says(tmp_path, build_dir, 
     """bench/scans.py on small scans: a row per case with finite figures, the sheets' distance
     to their twin measured, the table written where it was told (never docs/ here)."""
     md, raw = tmp_path / "scans.md", tmp_path / "scans.json"
-    proc = subprocess.run(
-        [
-            sys.executable,
-            str(repo_dir / "bench" / "scans.py"),
-            "--sizes",
-            "1500,3000",
-            "--quick",
-            "--tool",
-            str(build_dir / "bin" / "developable"),
-            "--md",
-            str(md),
-            "--json",
-            str(raw),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=600,
+    run_bench(
+        repo_dir,
+        "scans.py",
+        "--sizes",
+        "1500,3000",
+        "--quick",
+        "--tool",
+        str(build_dir / "bin" / "developable"),
+        "--md",
+        str(md),
+        "--json",
+        str(raw),
     )
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     rows = json.loads(raw.read_text())["rows"]
     assert [r["kind"] for r in rows] == ["sheet", "sheet", "object"] * 2
     for r in rows:

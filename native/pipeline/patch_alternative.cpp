@@ -138,12 +138,9 @@ PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positio
   Judge judge = judge_of(run);
   Choice choice = Choice::input(input, judge.input());
   const Normals normals = face_normals(candidate.positions, input.triangles);
+  // An object's judge has measured the rulings (Figures::crumpled).
   const Measured now = judge.measure(candidate.positions, normals);
-  const VertexShares shares = vertex_shares(
-      now.defects,
-      ruling_spreads(candidate.positions, input.triangles, normals, input.connectivity, input.measured.interior),
-      input.measured.interior);
-  const bool crumpled = shares.crumpled > input.measured.stats.shares_before.crumpled + kThinnedCrumpleSlack;
+  const bool crumpled = now.figures.crumpled() > input.measured.stats.shares_before.crumpled + kThinnedCrumpleSlack;
   if (judge.admissible(now) && now.figures.score < choice.best_score && !crumpled) {
     choice.keep(candidate.positions, now, ResultOrigin::thinned_pieces);
     choice.polish_iterations = candidate.polish_iterations;

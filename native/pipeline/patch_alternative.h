@@ -31,8 +31,9 @@ inline constexpr double kThinnedCrumpleSlack = 0.03;
 // the thinned mesh `thinned` (thin_whole) with the pieces of `source`: its
 // pieces as the patches, its mesh as the one candidate, held to the
 // admissibility rule (selection.h) like any other and to
-// kThinnedCrumpleSlack; the input when either turns it away. Throws what
-// the stages throw.
+// kThinnedCrumpleSlack; the input when either turns it away. For a whole
+// object (input.object: its judge measures the rulings the slack reads).
+// Throws what the stages throw.
 PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positions& thinned, PieceSource source,
                                        const Progress& progress);
 

@@ -69,6 +69,8 @@ struct Figures {
   double score = 0.0;        // the run's score (IterateScore, rad): lower is better
   Eigen::Index turned = 0;   // faces turned over against the input's normals
   Eigen::Index creased = 0;  // faces of edges inside a patch creased beyond the crease guard
+  // Share of the interior vertices flat but not ruled (measured where `ruled` is).
+  double crumpled() const { return flat - ruled; }
 };
 
 // Which admissibility conditions a candidate breaks.

@@ -63,6 +63,7 @@ ORIGIN_WORDS = {
     "smoothed_step_polish": "smoothing, then polish",
     "projected_input": "smoothing, then projection",
     "thinned_pieces": "thinning into ruled pieces, then polish",
+    "ruled_finish": "polish, then straightening the rulings",
 }
 STOP_WORDS = {
     "already developable": "there was nothing to do",

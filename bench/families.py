@@ -5,11 +5,14 @@ tool with its defaults.
     /usr/bin/python3 bench/families.py                       # build/bin/developable
     /usr/bin/python3 bench/families.py --tool OTHER/bin/developable --label before
     /usr/bin/python3 bench/families.py --write docs/families.md   # (re)writes the table there
+    /usr/bin/python3 bench/families.py --noise 0.1-0.5 --label "scan noise"   # sheets as scans bring them
 
 Per family and triangulation, over the seeds (default 100-102, not the
-tuning seeds 0-9; faces 500-5000 log-uniform, noise 0.5-5 % AE log-uniform):
+tuning seeds 0-9; faces 500-5000 log-uniform, noise 0.5-5 % AE log-uniform, --noise to change):
   dE      mean |defect| change, %: median over the seeds (worst in brackets)
   flat    share of interior vertices with |defect| < 1e-3 rad after: median (lowest)
+  f&r     share of interior vertices flat and ruled after (their faces' normals within 0.02 rad
+          of one great circle; devkit/measures.py): median (lowest)
   H/H0    Hausdorff distance of the result to the twin over the input's: median (largest)
   twin    the same ratio for the twin itself run through the tool (median, largest): how far
           the noise-free mesh has to move to become developable on these triangles (an
@@ -30,6 +33,7 @@ REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from devkit import families
 from devkit.distance import sampled_hausdorff
+from devkit.measures import developability_figures
 from devkit.tool import run_tool
 
 
@@ -58,6 +62,7 @@ def measure(mesh, tool, work):
     return {
         "dE": 100.0 * (e1 - e0) / e0,
         "flat": float(np.mean(np.abs(d1[interior]) < 1e-3)),
+        "flat_and_ruled": developability_figures(out, mesh.triangles)["flat_and_ruled"],
         "H_ratio": h1 / max(h0, 1e-300),
         "H_twin_ratio": h_twin / max(h0, 1e-300),
         "turned": turned,
@@ -74,10 +79,11 @@ def rows_of(results):
     for (family, triangulation), runs in results.items():
         good = [r for r in runs if "error" not in r]
         if not good:
-            rows.append((family, triangulation, "error", "", "", "", "", ""))
+            rows.append((family, triangulation, "error", "", "", "", "", "", ""))
             continue
         de = np.array([r["dE"] for r in good])
         flat = np.array([r["flat"] for r in good])
+        ruled = np.array([r["flat_and_ruled"] for r in good])
         ratio = np.array([r["H_ratio"] for r in good])
         twin = np.array([r["H_twin_ratio"] for r in good])
         rows.append(
@@ -86,6 +92,7 @@ def rows_of(results):
                 triangulation,
                 "%.1f (%.1f)" % (np.median(de), de.max()),
                 "%.0f %% (%.0f %%)" % (100 * np.median(flat), 100 * flat.min()),
+                "%.1f %% (%.1f %%)" % (100 * np.median(ruled), 100 * ruled.min()),
                 "%.2f (%.2f)" % (np.median(ratio), ratio.max()),
                 "%.2f (%.2f)" % (np.median(twin), twin.max()),
                 "%d" % sum(r["turned"] for r in good),
@@ -111,9 +118,9 @@ def summary(results):
 
 def table(rows, label):
     lines = [
-        "| family | triangulation | dE % median (worst) | flat median (lowest) | "
+        "| family | triangulation | dE % median (worst) | flat median (lowest) | f&r median (lowest) | "
         "H/H0 median (largest) | twin's own H/H0 | folds | unchanged |",
-        "|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     lines += ["| " + " | ".join(r) + " |" for r in rows]
     return "**%s**\n\n" % label + "\n".join(lines) + "\n"
@@ -130,6 +137,9 @@ def main():
         default="500-5000",
         help="first-last face count, drawn log-uniform per seed (the issue's range: 500-50000)",
     )
+    ap.add_argument(
+        "--noise", default="0.005-0.05", help="first-last noise amplitude in AE, drawn log-uniform per seed"
+    )
     ap.add_argument("--label", default="this build")
     ap.add_argument("--json", help="also write the raw figures here")
     ap.add_argument(
@@ -140,6 +150,7 @@ def main():
     args = ap.parse_args()
     first, last = (int(x) for x in args.seeds.split("-"))
     face_range = tuple(int(x) for x in args.faces.split("-"))
+    noise_range = tuple(float(x) for x in args.noise.split("-"))
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
@@ -149,12 +160,17 @@ def main():
                     continue
                 runs = []
                 for seed in range(first, last + 1):
-                    mesh = families.random_case(family, seed, faces=face_range, triangulations=[triangulation])
+                    mesh = families.random_case(
+                        family, seed, faces=face_range, noise=noise_range, triangulations=[triangulation]
+                    )
                     runs.append(measure(mesh, args.tool, work))
                 results[(family, triangulation)] = runs
                 print(" | ".join(rows_of({(family, triangulation): runs})[0]), flush=True)
     text = (
-        table(rows_of(results), "%s (seeds %s, %s faces, defaults)" % (args.label, args.seeds, args.faces))
+        table(
+            rows_of(results),
+            "%s (seeds %s, %s faces, noise %s AE, defaults)" % (args.label, args.seeds, args.faces, args.noise),
+        )
         + "\n"
         + summary(results)
     )

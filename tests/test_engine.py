@@ -159,14 +159,16 @@ def test_the_projected_smoothed_input_keeps_the_vertices_on_the_surface(library,
     1.5-2.6 times the noise from their twins, and the guarded smoothing's
     candidates alone did no better. The input projected onto the developable
     meshes from its unguarded smoothing (pipeline.cpp, kProjectionSteps) wins
-    them: nearer the twin than the input, and no vertex moved farther."""
+    them: nearer the twin than the input, and no vertex moved farther. (A
+    crumpled winner is then finished flat and ruled: native.ORIGIN_RULED_FINISH.)"""
     m = families.random_case(family, seed, triangulations=[triangulation])
     r = native.run(m.positions, m.triangles)
     without = native.run(m.positions, m.triangles, params=dict(polish_smoothed_input=0))
-    assert r.stats["result_origin"] in native.SMOOTHED_ORIGINS
+    assert r.stats["result_origin"] in native.SMOOTHED_ORIGINS | {native.ORIGIN_RULED_FINISH}
     assert r.stats["flat_share_after"] >= without.stats["flat_share_after"] - 0.005
     h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
-    assert sampled_hausdorff(without.positions, m.triangles, m.clean, m.triangles) > 1.5 * h0
+    if without.stats["result_origin"] != native.ORIGIN_RULED_FINISH:  # the finish takes that noise off too
+        assert sampled_hausdorff(without.positions, m.triangles, m.clean, m.triangles) > 1.5 * h0
     assert sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) < h0
 
     def largest(x):

@@ -223,7 +223,10 @@ def test_a_noisy_moebius_strip_runs_and_unfolds_in_one_piece(library, name):
     # No face turned over: each face's normal against its own before, in the caller's winding.
     assert st["faces_turned_over"] == 0
     assert ((normals(pos, tri) * normals(result.positions, tri)).sum(1) > 0).all()
-    assert st["flat_share_after"] > st["flat_share_before"] and st["flat_share_after"] > 0.99
+    # Flat, or flat and ruled where the ruled finish traded a few flat vertices for ruled ones
+    # (selection.h, ruled_finish_kept): the 5 % grid 97.5 % flat, all of them ruled.
+    assert st["flat_share_after"] > st["flat_share_before"] and st["flat_share_after"] > 0.97
+    assert st["result_origin"] == native.ORIGIN_RULED_FINISH or st["flat_share_after"] > 0.99
     assert np.linalg.norm(result.positions - pos, axis=1).max() <= st["move_limit"] * (1 + 1e-12)
     # Target normals in the caller's winding: beside each face's own normal, none opposite.
     cosines = (normals(result.positions, tri) * result.target_normals).sum(1)

@@ -19,7 +19,7 @@ import threading
 
 import numpy as np
 
-ABI_VERSION = 10  # DEV_ABI_VERSION this binding was written against
+ABI_VERSION = 11  # DEV_ABI_VERSION this binding was written against
 
 # Status codes (developable.h), values are stable.
 STATUS_NAMES = {
@@ -67,6 +67,7 @@ UNCHANGED_REJECTED = 6
 # dev_stats.result_origin: which generator made the returned mesh (DEV_ORIGIN_*).
 ORIGIN_INPUT = 0
 ORIGIN_INPUT_POLISH = 4
+ORIGIN_RULED_FINISH = 9
 ORIGIN_NAMES = {
     0: "input",
     1: "deformation",
@@ -77,6 +78,7 @@ ORIGIN_NAMES = {
     6: "smoothed_step_polish",
     7: "projected_input",
     8: "thinned_pieces",
+    9: "ruled_finish",
 }
 
 # Least motion's candidates: the polish of the input itself, or of its smoothing.

@@ -93,6 +93,7 @@ static_assert(DEV_ORIGIN_SMOOTHED_INPUT_POLISH == c_value(developable::ResultOri
 static_assert(DEV_ORIGIN_SMOOTHED_STEP_POLISH == c_value(developable::ResultOrigin::smoothed_step_polish));
 static_assert(DEV_ORIGIN_PROJECTED_INPUT == c_value(developable::ResultOrigin::projected_input));
 static_assert(DEV_ORIGIN_THINNED_PIECES == c_value(developable::ResultOrigin::thinned_pieces));
+static_assert(DEV_ORIGIN_RULED_FINISH == c_value(developable::ResultOrigin::ruled_finish));
 static_assert(DEV_WORSE_MEAN_DEFECT == developable::worse_mean_defect);
 static_assert(DEV_WORSE_MAX_DEFECT == developable::worse_max_defect);
 static_assert(DEV_WORSE_FLAT_SHARE == developable::worse_flat_share);

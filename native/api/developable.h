@@ -31,7 +31,7 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct layout or a signature below changes. */
-#define DEV_ABI_VERSION 10
+#define DEV_ABI_VERSION 11
 
 /* Status codes (values are stable). */
 enum {
@@ -124,7 +124,8 @@ enum {
   DEV_ORIGIN_SMOOTHED_INPUT_POLISH = 5, /* ... of the input with its noise smoothed */
   DEV_ORIGIN_SMOOTHED_STEP_POLISH = 6,  /* ... of that after one deformation step */
   DEV_ORIGIN_PROJECTED_INPUT = 7,       /* ... the input projected onto developable meshes from its smoothing */
-  DEV_ORIGIN_THINNED_PIECES = 8         /* ruled pieces from the thinned Gauss image (closed meshes) */
+  DEV_ORIGIN_THINNED_PIECES = 8,        /* ruled pieces from the thinned Gauss image (closed meshes) */
+  DEV_ORIGIN_RULED_FINISH = 9           /* ABI 11: a sheet's result finished flat and ruled (noisy scans) */
 };
 
 /* Figures of an improved result that a user sees worse than the input's (dev_stats.worse_figures,

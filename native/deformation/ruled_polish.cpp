@@ -46,12 +46,14 @@ class RuledPolish {
         table_(vertex_faces(triangles, start.rows())),
         guard_(triangles, reference_normals, options.crease_groups, options.crease_growth),
         current_(start) {
+    if (options.fit_weight > 0.0) fit_scale_ = options.fit_weight / average_edge_length(reference, triangles);
     for (Eigen::Index v = 0; v < n_; ++v)
       if (scored[static_cast<size_t>(v)] && table_.count(v) >= 3) scored_.push_back(v);
     scored_mask_.assign(static_cast<size_t>(n_), false);
     for (Eigen::Index v : scored_) scored_mask_[static_cast<size_t>(v)] = true;
     free_.assign(static_cast<size_t>(n_), true);
-    for (Eigen::Index v = 0; v < n_ && !pinned.empty(); ++v) free_[static_cast<size_t>(v)] = !pinned[static_cast<size_t>(v)];
+    for (Eigen::Index v = 0; v < n_ && !pinned.empty(); ++v)
+      free_[static_cast<size_t>(v)] = !pinned[static_cast<size_t>(v)];
   }
 
   RuledPolishResult run(const Progress& progress);
@@ -71,6 +73,10 @@ class RuledPolish {
   Eigen::VectorXd group_weights(const Eigen::VectorXd& r) const;
   double weighted(const Eigen::VectorXd& r, const Eigen::VectorXd& weights) const;
   double robust_objective(const Eigen::VectorXd& r) const;
+  // The fit rows' sum of squares at `p`.
+  double fit_energy(const Positions& p) const {
+    return fit_scale_ > 0.0 ? fit_scale_ * fit_scale_ * (p - reference_).squaredNorm() : 0.0;
+  }
   std::vector<int> active_columns(const Positions& p, const std::vector<Star>& stars, const Normals& normals,
                                   const Eigen::VectorXd& defects) const;
   SparseMatrix jacobian(const Positions& p, const std::vector<Star>& stars, const Normals& normals,
@@ -88,6 +94,7 @@ class RuledPolish {
   std::vector<bool> scored_mask_;
   std::vector<bool> free_;
   Positions current_;
+  double fit_scale_ = 0.0;  // wF / AE; 0 without the fit
 };
 
 double tip_angle(const Positions& p, const Triangles& t, int f, Eigen::Index v) {
@@ -173,8 +180,8 @@ double RuledPolish::robust_objective(const Eigen::VectorXd& r) const {
   return sum;
 }
 
-std::vector<int> RuledPolish::active_columns(const Positions& p, const std::vector<Star>& stars,
-                                             const Normals& normals, const Eigen::VectorXd& defects) const {
+std::vector<int> RuledPolish::active_columns(const Positions& p, const std::vector<Star>& stars, const Normals& normals,
+                                             const Eigen::VectorXd& defects) const {
   (void)p;
   std::vector<int> column_of(static_cast<size_t>(n_), -1);
   for (size_t s = 0; s < scored_.size(); ++s) {
@@ -268,10 +275,22 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
     if (columns <= 0) break;
     const SparseMatrix jac = weights.asDiagonal() * jacobian(current_, stars, normals, column_of, columns);
     const Eigen::VectorXd rw = weights.cwiseProduct(r);
-    const SparseMatrix normal_matrix = SparseMatrix(jac.transpose() * jac);
-    const Eigen::VectorXd gradient = jac.transpose() * rw;
+    SparseMatrix normal_matrix = SparseMatrix(jac.transpose() * jac);
+    Eigen::VectorXd gradient = jac.transpose() * rw;
     const double scale = normal_matrix.diagonal().mean();
-    const double energy = weighted(r, weights);
+    // The fit rows: identity blocks times wF / AE (their Jacobian is diagonal).
+    if (fit_scale_ > 0.0) {
+      const double f2 = fit_scale_ * fit_scale_;
+      for (Eigen::Index v = 0; v < n_; ++v) {
+        const int c = column_of[static_cast<size_t>(v)];
+        if (c < 0) continue;
+        for (int k = 0; k < 3; ++k) {
+          normal_matrix.coeffRef(3 * c + k, 3 * c + k) += f2;
+          gradient[3 * c + k] += f2 * (current_(v, k) - reference_(v, k));
+        }
+      }
+    }
+    const double energy = weighted(r, weights) + fit_energy(current_);
     bool kept = false;
     Positions trial;
     Eigen::VectorXd trial_r, trial_defects;
@@ -300,12 +319,11 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
           trial.row(v) += length * step.segment<3>(3 * c).transpose();
           trial.row(v) = within_limit(trial.row(v), reference_.row(v), options_.limit);
         }
-        if (!put_back_folded_corners(trial, current_, triangles_, reference_normals_, guard_, kRevertRounds))
-          continue;
+        if (!put_back_folded_corners(trial, current_, triangles_, reference_normals_, guard_, kRevertRounds)) continue;
         trial_normals = face_normals(trial, triangles_);
         trial_defects = angle_defects(trial, triangles_, scored_mask_);
         trial_r = residual(trial, trial_stars, trial_normals, trial_defects);
-        if (weighted(trial_r, weights) < energy) {
+        if (weighted(trial_r, weights) + fit_energy(trial) < energy) {
           kept = true;
           if (length < 1.0) mu *= kDampingDown;
           break;
@@ -322,7 +340,7 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
     r = residual(current_, stars, normals, defects);
     weights = group_weights(r);
     ++result.iterations;
-    history.push_back(robust_objective(r));
+    history.push_back(robust_objective(r) + fit_energy(current_));
     const size_t window = static_cast<size_t>(options_.stall_window);
     if (history.size() > window) {
       const double before = history[history.size() - 1 - window];

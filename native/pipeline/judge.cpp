@@ -69,7 +69,10 @@ Measured Judge::measure(const Positions& positions, const Normals& normals, Deta
 }
 
 void Judge::complete(Measured& measured, const Positions& positions, const Normals& normals) const {
-  if (!object_) return;
+  if (object_) measure_rulings(measured, positions, normals);
+}
+
+void Judge::measure_rulings(Measured& measured, const Positions& positions, const Normals& normals) const {
   measured.figures.ruled =
       vertex_shares(measured.defects, ruling_spreads(positions, triangles_, normals, connectivity_, interior_),
                     interior_)

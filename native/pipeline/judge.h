@@ -75,6 +75,11 @@ class Judge {
   // `measured` of `positions`.
   void complete(Measured& measured, const Positions& positions, const Normals& normals) const;
 
+  // The flat-and-ruled share of `positions` filled into `measured`, on any
+  // surface (measure() and complete() read it on objects only; a sheet's
+  // ruled finish reads it too).
+  void measure_rulings(Measured& measured, const Positions& positions, const Normals& normals) const;
+
   // Whether a measured candidate may be returned (admit); the reasons of one
   // that scored better than the input but may not are kept.
   bool admissible(const Measured& candidate);

@@ -5,6 +5,7 @@
 #include "pipeline/least_motion.h"
 #include "pipeline/messages.h"
 #include "pipeline/polish_run.h"
+#include "pipeline/ruled_finish.h"
 #include "pipeline/selection.h"
 #include "pipeline/target_field.h"
 #include "pipeline/thinned_pieces.h"
@@ -148,6 +149,34 @@ PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positio
   const Rejections rejected = judge.rejected();
   finish(run, choice, unchanged_reason(rejected, result.stats.flat_share_before), rejected, result,
          progress.sub(0.95, 1.0));
+  return result;
+}
+
+PipelineResult finish_plan_result(const MeasuredInput& input, PipelineResult result, const Progress& progress) {
+  if (input.object || result.stats.result != ResultKind::improved || !polish_enabled(input.options)) return result;
+  Figures figures;
+  figures.flat = result.stats.flat_share_after;
+  figures.ruled = result.stats.shares_after.ruled;
+  if (!worth_ruled_finish(figures)) return result;
+  const auto finish_start = Clock::now();
+  MeasuredInput within = input;
+  within.limit = result.stats.move_limit;
+  Patches patches;
+  patches.ids = result.patch_ids;
+  patches.count = static_cast<int>(result.stats.patches);
+  const PatchRun run = patch_run(within, patches);
+  Judge judge = judge_of(run);
+  const Normals normals = face_normals(result.positions, input.triangles);
+  Choice choice = Choice::input(within, judge.input());
+  Measured measured = judge.measure(result.positions, normals);
+  judge.measure_rulings(measured, result.positions, normals);
+  choice.keep(result.positions, std::move(measured), result.stats.origin);
+  choice.polish_iterations = result.stats.polish_iterations;
+  finish_ruled(run, judge, choice, progress);
+  if (choice.origin == ResultOrigin::ruled_finish)
+    finish(run, choice, UnchangedReason::none, Rejections{}, result, progress);
+  result.stats.time_polish_ms += elapsed_ms(finish_start);
+  result.stats.time_total_ms = elapsed_ms(input.start_time);
   return result;
 }
 

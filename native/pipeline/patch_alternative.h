@@ -21,6 +21,19 @@ namespace developable {
 // (cancelled, numerical_failure).
 PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches, const Progress& progress);
 
+// The plan's chosen result of a sheet finished flat and ruled (ruled_finish.h):
+// `result` of `input` (its patches, and its move limit stats.move_limit:
+// crease pieces run within the noise) when it is improved, not a whole
+// object, polished (polish_enabled: not in the paper's mode unless asked)
+// and worth_ruled_finish by its stats; its mesh and stats measured
+// again when the finish is kept, else `result` as it was. After the plan has
+// chosen, not as one more candidate: the finish takes the noise off the
+// rulings, which moves the input more than least motion's candidates, and
+// the order would return those (a noisy cylinder patch on an alternating
+// grid: 99.0 % flat and ruled returned over 100 %). Throws what the stages
+// throw.
+PipelineResult finish_plan_result(const MeasuredInput& input, PipelineResult result, const Progress& progress);
+
 // How many points (share of the interior vertices) more crumpled (flat, not
 // ruled: vertex_shares in measures.h) than the input a thinned-pieces
 // candidate may be: its promise is developability that is not bought by

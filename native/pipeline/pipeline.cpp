@@ -2,6 +2,7 @@
 
 #include "core/mesh_input.h"
 #include "pipeline/memory_budget.h"
+#include "pipeline/patch_alternative.h"
 #include "pipeline/plan.h"
 #include "pipeline/run_context.h"
 
@@ -25,7 +26,10 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
   const VertexFaces connectivity = check_input(positions, triangles, pinned, options, progress);
   const MeasuredInput input = measure_input(positions, triangles, connectivity, pinned, options, start_time);
   progress.report(0.02, "ideal curve");
-  return run_plan(input, progress);
+  PipelineResult result = run_plan(input, progress.sub(0.02, 0.95));
+  result = finish_plan_result(input, std::move(result), progress.sub(0.95, 1.0));
+  progress.report(1.0, "done");
+  return result;
 }
 
 }  // namespace developable

@@ -8,6 +8,8 @@
 //     (patch_alternative.h)       deformation, stages 6-7, and its polish,
 //                                 stage 8; least motion's polishes), held to
 //                                 one admissibility rule (selection.h)
+//   finish_plan_result            a sheet's chosen result finished flat and
+//     (patch_alternative.h)       ruled (ruled_finish.h), when it is crumpled
 //
 // docs/architecture.md draws the stages; docs/method.md says where and why
 // they depart from the paper.

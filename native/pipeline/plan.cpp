@@ -120,7 +120,7 @@ std::optional<Patches> crease_pieces_of(const MeasuredInput& input, const Progre
   const PipelineOptions& options = input.options;
   if (input.before.mean_abs <= options.developable_threshold || options.segmentation_options.target_patches > 0)
     return std::nullopt;
-  progress.report(0.02, "crease lines");  // where measure_input left the bar: it never goes back
+  progress.report(0.0, "crease lines");
   CreasePieces pieces =
       crease_pieces(input.positions, input.triangles, input.normals, input.areas, input.connectivity, options.threads);
   const double worst = pieces.fit.empty() ? 0.0 : *std::max_element(pieces.fit.begin(), pieces.fit.end());

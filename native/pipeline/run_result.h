@@ -32,6 +32,7 @@ enum class ResultOrigin {
   smoothed_step_polish = 6,   // ... of that after one deformation step
   projected_input = 7,        // ... the input projected onto developable meshes from its smoothing
   thinned_pieces = 8,  // the thinned-pieces generator (thinned_pieces.h): ruled pieces from the thinned Gauss image
+  ruled_finish = 9,    // a sheet's choice finished flat and ruled (ruled_finish.h)
 };
 
 // Figures of an improved result a user sees worse than the input's, or-ed

@@ -38,6 +38,16 @@ bool more_developable(const Figures& a, const Figures& b, bool object) {
   return a.flat > b.flat || (a.flat == b.flat && a.mean < b.mean);
 }
 
+bool worth_ruled_finish(const Figures& choice) { return choice.crumpled() > kFlatSlack; }
+
+bool ruled_finish_kept(const Figures& finished, const Motion& finished_motion, const Figures& choice,
+                       const Motion& choice_motion, const Figures& input) {
+  const double gain = finished.ruled - choice.ruled;
+  return gain > kFlatSlack && gain > choice.flat - finished.flat &&
+         finished.max <= allowed_largest_defect(choice.max, input.max) &&
+         finished_motion.largest <= kFinishReach * choice_motion.largest;
+}
+
 bool moves_less(const Motion& candidate, const Motion& other) { return candidate.rms < other.rms; }
 
 bool smooth_enough(double roughness, double reference) { return roughness <= kLeastMoveRoughness * reference; }

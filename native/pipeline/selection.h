@@ -53,6 +53,10 @@ inline constexpr double kLeastGain = 1e-6;
 inline constexpr double kFlatSlack = 0.01;
 inline constexpr double kDefectSlack = 0.01;
 inline constexpr double kLargestDefectGrowth = 0.05;
+// The ruled finish's reach over the choice's largest move (ruled_finish_kept):
+// on the noisy sheets it was kept on, 0.6-1.17 times; beyond, 1.29-4.0, the
+// distance to the twin grew (docs/method.md, "The ruled finish").
+inline constexpr double kFinishReach = 1.25;
 
 // Least motion prefers a candidate whose normals are at most this much
 // rougher (normal_roughness) than the reference: the polish keeps the noise
@@ -64,6 +68,7 @@ inline constexpr double kLeastMoveRoughness = 1.25;
 struct Figures {
   double flat = 0.0;         // share of the interior vertices with |defect| < kFlatDefect, 0..1
   double ruled = 0.0;        // share of the interior vertices flat and ruled (vertex_shares), 0..1; objects
+                             // and the ruled finish (Judge::measure_rulings)
   double mean = 0.0;         // mean |defect| over the interior (rad)
   double max = 0.0;          // largest |defect| over the interior (rad)
   double score = 0.0;        // the run's score (IterateScore, rad): lower is better
@@ -142,6 +147,28 @@ struct Motion {
 
 // Least motion's order: whether `candidate` moved the input less (RMS) than `other`.
 bool moves_less(const Motion& candidate, const Motion& other);
+
+// The ruled finish of a sheet (ruled_finish.h): whether it is worth running
+// on a choice of these figures (flat and ruled measured): more than
+// kFlatSlack of its vertices crumpled, so that it can gain more than what
+// rounding moves.
+bool worth_ruled_finish(const Figures& choice);
+
+// Whether the ruled finish is kept over the choice it started from: more
+// than kFlatSlack more flat-and-ruled vertices, gained by more than the flat
+// share fell (crumpled vertices made developable, not curved), its largest
+// |defect| within allowed_largest_defect of the choice's and the input's,
+// and no vertex moved farther from the input than kFinishReach times the
+// choice's largest move. A crumpled vertex is not developable: a noisy cone
+// patch finished 97.1 % flat, 96.9 % flat and ruled is a better result
+// than its choice's 99.7 % flat, 39.3 % flat and ruled. The choice moved the
+// input within its noise (least motion); straightening the rulings takes
+// the noise off, moves of the same size; a finish that needs larger ones
+// changes the shape (an irregular triangulation of a generalized cone,
+// which cannot be ruled as its triangles lie: 4 times the choice's largest
+// move, 1.33 -> 2.80 times the noise from its twin).
+bool ruled_finish_kept(const Figures& finished, const Motion& finished_motion, const Figures& choice,
+                       const Motion& choice_motion, const Figures& input);
 
 // Whether normals of roughness `roughness` (normal_roughness, rad) are smooth
 // enough against `reference`: at most kLeastMoveRoughness times it.

@@ -158,6 +158,8 @@ const char* origin_name(int32_t origin) {
       return "projected_input";
     case DEV_ORIGIN_THINNED_PIECES:
       return "thinned_pieces";
+    case DEV_ORIGIN_RULED_FINISH:
+      return "ruled_finish";
     default:
       return "input";
   }

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace developable {
 namespace {
@@ -33,7 +34,8 @@ struct Split {
     const VertexFaces& t = table;
     for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v)
       for (const int* f = t.begin(v); f != t.end(v); ++f)
-        if (pieces[static_cast<size_t>(*f)] != pieces[static_cast<size_t>(*t.begin(v))]) inside[static_cast<size_t>(v)] = false;
+        if (pieces[static_cast<size_t>(*f)] != pieces[static_cast<size_t>(*t.begin(v))])
+          inside[static_cast<size_t>(v)] = false;
   }
 
   // Flat-and-ruled and crumpled shares over the inside vertices.
@@ -65,9 +67,49 @@ TEST(RuledPolish, MakesVerticesFlatAndRuledNotCrumpled) {
   const CreaseGuard guard(s.mesh.triangles, normals, s.pieces, options.crease_growth);
   EXPECT_TRUE(guard.creased_faces(after_normals).empty());
   // The same input gives the same mesh.
-  EXPECT_EQ(polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, s.inside, {}, options, {})
-                .positions,
-            r.positions);
+  EXPECT_EQ(
+      polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, s.inside, {}, options, {}).positions,
+      r.positions);
+}
+
+// The fit to the reference: a cylinder patch with noise at 15 % of its edge
+// length polished flat and ruled ends 0.53 of the input's RMS distance from
+// the cylinder without the fit, 0.36 with it.
+TEST(RuledPolish, TheFitHoldsANoisySheetNearItsShape) {
+  test::Mesh band = test::grid(
+      24, 36, false, [](double u, double v) { return Eigen::Vector3d(std::cos(2.0 * v), std::sin(2.0 * v), 1.5 * u); });
+  const Positions clean = band.positions;
+  const double edge = average_edge_length(clean, band.triangles);
+  test::add_noise(band.positions, 0.15 * edge, 7);
+  const Normals normals = face_normals(band.positions, band.triangles);
+  const std::vector<bool> interior = interior_vertices(band.positions, band.triangles);
+  const VertexFaces table = vertex_faces(band.triangles, band.positions.rows());
+  // RMS distance of the interior vertices from the cylinder r = 1.
+  const auto off_cylinder = [&](const Positions& p) {
+    double sum = 0.0;
+    int count = 0;
+    for (Eigen::Index v = 0; v < p.rows(); ++v) {
+      if (!interior[static_cast<size_t>(v)]) continue;
+      sum += std::pow(p.row(v).head<2>().norm() - 1.0, 2);
+      ++count;
+    }
+    return std::sqrt(sum / count);
+  };
+  RuledPolishOptions options;
+  options.limit = 2.0 * edge;
+  const RuledPolishResult drifting =
+      polish_ruled(band.positions, band.positions, normals, band.triangles, interior, {}, options, {});
+  options.fit_weight = 0.05;
+  const RuledPolishResult fitted =
+      polish_ruled(band.positions, band.positions, normals, band.triangles, interior, {}, options, {});
+  const Eigen::VectorXd defects = angle_defects(fitted.positions, band.triangles, interior);
+  const VertexShares shares = vertex_shares(
+      defects,
+      ruling_spreads(fitted.positions, band.triangles, face_normals(fitted.positions, band.triangles), table, interior),
+      interior);
+  EXPECT_GT(shares.ruled, 0.95);
+  EXPECT_LT(off_cylinder(fitted.positions), 0.5 * off_cylinder(band.positions));
+  EXPECT_LT(off_cylinder(fitted.positions), 0.8 * off_cylinder(drifting.positions));
 }
 
 TEST(RuledPolish, KeepsPinsAndReturnsItsStartWithNothingScored) {
@@ -81,15 +123,16 @@ TEST(RuledPolish, KeepsPinsAndReturnsItsStartWithNothingScored) {
   const RuledPolishResult r =
       polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, s.inside, pinned, options, {});
   for (size_t v = 0; v < pinned.size(); ++v)
-    if (pinned[v]) EXPECT_EQ(r.positions.row(static_cast<Eigen::Index>(v)), s.mesh.positions.row(static_cast<Eigen::Index>(v)));
+    if (pinned[v])
+      EXPECT_EQ(r.positions.row(static_cast<Eigen::Index>(v)), s.mesh.positions.row(static_cast<Eigen::Index>(v)));
   const std::vector<bool> none(pinned.size(), false);
   const RuledPolishResult idle =
       polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, none, {}, options, {});
   EXPECT_EQ(idle.iterations, 0);
   EXPECT_EQ(idle.positions, s.mesh.positions);
-  EXPECT_THROW(polish_ruled(s.mesh.positions, s.mesh.positions, normals.topRows(2), s.mesh.triangles, s.inside, {},
-                            options, {}),
-               EngineError);
+  EXPECT_THROW(
+      polish_ruled(s.mesh.positions, s.mesh.positions, normals.topRows(2), s.mesh.triangles, s.inside, {}, options, {}),
+      EngineError);
 }
 
 }  // namespace

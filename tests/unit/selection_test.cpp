@@ -122,6 +122,40 @@ TEST(Selection, OnAClosedMeshTheFlatAndRuledShareComesFirst) {
   EXPECT_EQ(select({a, b}, kInput, 1.0, false), 0);
 }
 
+// The ruled finish runs on a choice with more than kFlatSlack crumpled
+// (flat but not ruled) vertices.
+TEST(Selection, TheRuledFinishIsWorthItBeyondOnePointCrumpled) {
+  Figures choice = figures(1.0, 1e-9, 1e-8);
+  choice.ruled = 0.995;
+  EXPECT_FALSE(worth_ruled_finish(choice));
+  choice.ruled = 0.985;
+  EXPECT_TRUE(worth_ruled_finish(choice));
+}
+
+// Kept: more than one point more flat and ruled, gained by more than the
+// flat share fell, the largest |defect| within 5 % of the choice's and the
+// input's larger, no vertex farther than kFinishReach (1.25) times the
+// choice's largest move.
+TEST(Selection, TheRuledFinishIsKeptWhenMoreRuledAsFlatAndWithinReach) {
+  Figures choice = figures(1.0, 1e-9, 1e-8), finished = figures(0.995, 5e-5, 3e-4);
+  choice.ruled = 0.88;
+  finished.ruled = 0.99;
+  const Motion moved{0.010, 0.030};
+  EXPECT_TRUE(ruled_finish_kept(finished, {0.012, 0.0375}, choice, moved, kInput));
+  EXPECT_FALSE(ruled_finish_kept(finished, {0.012, 0.0376}, choice, moved, kInput));  // beyond the reach
+  Figures less_flat = finished;
+  less_flat.flat = 0.895;  // 10.5 points less flat for 11 more flat and ruled: kept
+  EXPECT_TRUE(ruled_finish_kept(less_flat, {0.012, 0.03}, choice, moved, kInput));
+  less_flat.flat = 0.889;  // 11.1 points less flat: curved vertices for crumpled ones
+  EXPECT_FALSE(ruled_finish_kept(less_flat, {0.012, 0.03}, choice, moved, kInput));
+  Figures spiked = finished;
+  spiked.max = 0.526;  // above 1.05 times the input's 0.5
+  EXPECT_FALSE(ruled_finish_kept(spiked, {0.012, 0.03}, choice, moved, kInput));
+  Figures hardly_ruled = finished;
+  hardly_ruled.ruled = 0.889;  // under one point more flat and ruled: within rounding
+  EXPECT_FALSE(ruled_finish_kept(hardly_ruled, {0.012, 0.03}, choice, moved, kInput));
+}
+
 TEST(Selection, MovesLessComparesTheRmsMotion) {
   EXPECT_TRUE(moves_less({0.9, 5.0}, {1.0, 3.0}));
   EXPECT_FALSE(moves_less({1.0, 1.0}, {1.0, 3.0}));  // strictly less; the largest move does not count

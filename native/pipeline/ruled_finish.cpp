@@ -1,0 +1,70 @@
+#include "pipeline/ruled_finish.h"
+
+#include "core/measures.h"
+#include "deformation/defect_polish.h"
+#include "deformation/ruled_polish.h"
+
+#include <iterator>
+
+namespace developable {
+namespace {
+
+// The fit weights of the rounds (RuledPolishOptions::fit_weight). One round
+// at the last weight leaves noisy sheets up to 1.7 times the noise from
+// their twins (Hausdorff), at the first flat and ruled on 90-94 % of their
+// vertices; the rounds: 98-100 % and below the input's distance
+// (docs/method.md, "The ruled finish").
+constexpr double kFitWeights[] = {0.3, 0.1, 0.05};
+// Steps per round: the rounds that made noisy sheets flat and ruled took
+// 11-101; capped at 40 no figure of them changed, and a round that crawls
+// (a tangent developable on slivers: 192 steps, 2.9 s, then not kept) stops.
+constexpr int kRoundSteps = 40;
+
+}  // namespace
+
+void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progress& progress) {
+  const MeasuredInput& input = run.input;
+  const Figures start = choice.measured.figures;
+  RuledPolishOptions options;
+  options.limit = input.limit;
+  options.crease_growth = run.crease_growth;
+  options.crease_groups = run.patch_ids;
+  options.max_iterations = kRoundSteps;
+  const Motion choice_motion = motion_of(choice.positions, input.positions);
+  Positions positions = choice.positions;
+  int iterations = 0;
+  const double rounds = static_cast<double>(std::size(kFitWeights)) + 1.0;  // and the exact polish
+  for (size_t k = 0; k < std::size(kFitWeights); ++k) {
+    options.fit_weight = kFitWeights[k];
+    RuledPolishResult round = polish_ruled(positions, input.positions, input.normals, input.triangles, run.scored,
+                                           run.pinned, options, progress.sub(k / rounds, (k + 1) / rounds));
+    positions = std::move(round.positions);
+    iterations += round.iterations;
+    // Past the reach (ruled_finish_kept) it gives up: the later rounds fit
+    // the input more loosely.
+    if (motion_of(positions, input.positions).largest > kFinishReach * choice_motion.largest) return;
+  }
+  if (iterations == 0) return;
+  // The ruled polish stops once a vertex is within a share of the flat
+  // threshold (its defects near 1e-4 rad); the angle-defect polish then makes
+  // them exact with moves far below the ruling threshold (a noisy Moebius
+  // strip unfolded with 0.15 % strain without it, under 0.1 % with it).
+  PolishOptions exact;
+  exact.limit = input.limit;
+  exact.crease_growth = run.crease_growth;
+  exact.crease_groups = run.patch_ids;
+  const PolishResult polished = polish_defects(positions, input.positions, input.normals, input.triangles, run.scored,
+                                               run.pinned, exact, progress.sub((rounds - 1.0) / rounds, 1.0));
+  positions = polished.positions;
+  iterations += polished.iterations;
+  const Normals normals = face_normals(positions, input.triangles);
+  Measured finished = judge.measure(positions, normals);
+  judge.measure_rulings(finished, positions, normals);
+  if (!judge.admissible(finished) || !ruled_finish_kept(finished.figures, motion_of(positions, input.positions), start,
+                                                        choice_motion, judge.input().figures))
+    return;
+  choice.keep(positions, std::move(finished), ResultOrigin::ruled_finish);
+  choice.polish_iterations += iterations;
+}
+
+}  // namespace developable

@@ -224,7 +224,7 @@ def test_a_noisy_moebius_strip_runs_and_unfolds_in_one_piece(library, name):
     assert st["faces_turned_over"] == 0
     assert ((normals(pos, tri) * normals(result.positions, tri)).sum(1) > 0).all()
     # Flat, or flat and ruled where the ruled finish traded a few flat vertices for ruled ones
-    # (selection.h, ruled_finish_kept): the 5 % grid 97.5 % flat, all of them ruled.
+    # (selection.h, ruled_finish_kept): the 5 % grid 99.5 % flat, 98.7 % flat and ruled.
     assert st["flat_share_after"] > st["flat_share_before"] and st["flat_share_after"] > 0.97
     assert st["result_origin"] == native.ORIGIN_RULED_FINISH or st["flat_share_after"] > 0.99
     assert np.linalg.norm(result.positions - pos, axis=1).max() <= st["move_limit"] * (1 + 1e-12)
@@ -242,7 +242,9 @@ def test_a_noisy_moebius_strip_runs_and_unfolds_in_one_piece(library, name):
     assert abs(cuts[0]["length_a"] / cuts[0]["length_3d"] - 1) < 1e-3
     assert abs(cuts[0]["length_b"] / cuts[0]["length_3d"] - 1) < 1e-3
     assert pattern.stats["cut_edges"] == cuts[0]["edges"]
-    assert pattern.stats["max_strain"] < 1e-3
+    # A ruled finish keeps a few vertices just above the flat threshold: within the pattern's seam
+    # tolerance (0.25 %), still one piece (the 5 % grid: 0.16 %).
+    assert pattern.stats["max_strain"] < (2.5e-3 if st["result_origin"] == native.ORIGIN_RULED_FINISH else 1e-3)
     assert_corners_follow_the_caller(result.positions, tri, pattern.corner_uvs, 1e-3)
     vertices = cuts[0]["vertices"]
     assert vertices.max() < len(pos) and np.array_equal(vertices[1:, 0], vertices[:-1, 1])

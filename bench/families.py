@@ -5,7 +5,7 @@ tool with its defaults.
     /usr/bin/python3 bench/families.py                       # build/bin/developable
     /usr/bin/python3 bench/families.py --tool OTHER/bin/developable --label before
     /usr/bin/python3 bench/families.py --write docs/families.md   # (re)writes the table there
-    /usr/bin/python3 bench/families.py --noise 0.1-0.5 --label "scan noise"   # sheets as scans bring them
+    /usr/bin/python3 bench/families.py --noise 0.1-0.5 --tolerance 2 --label "scan noise"   # sheets as scans bring them
 
 Per family and triangulation, over the seeds (default 100-102, not the
 tuning seeds 0-9; faces 500-5000 log-uniform, noise 0.5-5 % AE log-uniform, --noise to change):
@@ -41,10 +41,11 @@ angle_defects = families.angle_defects
 face_normals = families.face_normals
 
 
-def measure(mesh, tool, work):
-    """One run: the figures of the table for one FamilyMesh (and its twin's own run)."""
-    run = run_tool(tool, work, mesh.positions, mesh.triangles)
-    twin_run = run_tool(tool, work, mesh.clean, mesh.triangles)
+def measure(mesh, tool, work, options=()):
+    """One run: the figures of the table for one FamilyMesh (and its twin's own run), the tool's
+    defaults and `options`."""
+    run = run_tool(tool, work, mesh.positions, mesh.triangles, options)
+    twin_run = run_tool(tool, work, mesh.clean, mesh.triangles, options)
     if isinstance(run, str) or isinstance(twin_run, str):
         return {"error": run if isinstance(run, str) else twin_run}
     out, stats, seconds = run
@@ -140,6 +141,12 @@ def main():
     ap.add_argument(
         "--noise", default="0.005-0.05", help="first-last noise amplitude in AE, drawn log-uniform per seed"
     )
+    ap.add_argument(
+        "--tolerance",
+        type=float,
+        help="move limit in average edge lengths instead of the defaults' (--max-move 0 --tolerance X): "
+        "above the noise's amplitude for scan noise",
+    )
     ap.add_argument("--label", default="this build")
     ap.add_argument("--json", help="also write the raw figures here")
     ap.add_argument(
@@ -151,6 +158,8 @@ def main():
     first, last = (int(x) for x in args.seeds.split("-"))
     face_range = tuple(int(x) for x in args.faces.split("-"))
     noise_range = tuple(float(x) for x in args.noise.split("-"))
+    options = () if args.tolerance is None else ("--max-move", "0", "--tolerance", repr(args.tolerance))
+    limit = "defaults" if args.tolerance is None else "move limit %g AE" % args.tolerance
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
@@ -163,13 +172,13 @@ def main():
                     mesh = families.random_case(
                         family, seed, faces=face_range, noise=noise_range, triangulations=[triangulation]
                     )
-                    runs.append(measure(mesh, args.tool, work))
+                    runs.append(measure(mesh, args.tool, work, options))
                 results[(family, triangulation)] = runs
                 print(" | ".join(rows_of({(family, triangulation): runs})[0]), flush=True)
     text = (
         table(
             rows_of(results),
-            "%s (seeds %s, %s faces, noise %s AE, defaults)" % (args.label, args.seeds, args.faces, args.noise),
+            "%s (seeds %s, %s faces, noise %s AE, %s)" % (args.label, args.seeds, args.faces, args.noise, limit),
         )
         + "\n"
         + summary(results)

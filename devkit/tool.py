@@ -8,14 +8,15 @@ import time
 from .obj import read_obj, write_obj
 
 
-def run_tool(tool, work, positions, triangles):
-    """(result positions, report stats, seconds) of the tool's defaults on the
-    mesh, its files in the folder `work`, or the end of its error message."""
+def run_tool(tool, work, positions, triangles, options=()):
+    """(result positions, report stats, seconds) of the tool's defaults (and
+    the command-line `options`) on the mesh, its files in the folder `work`,
+    or the end of its error message."""
     src, dst, report = work / "in.obj", work / "out.obj", work / "r.json"
     write_obj(src, positions, triangles)
     start = time.perf_counter()
     run = subprocess.run(
-        [str(tool), str(src), str(dst), "--quiet", "--report", str(report)], capture_output=True, text=True
+        [str(tool), str(src), str(dst), "--quiet", "--report", str(report), *options], capture_output=True, text=True
     )
     seconds = time.perf_counter() - start
     if run.returncode != 0:

@@ -152,12 +152,18 @@ PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positio
   return result;
 }
 
+Figures result_figures(const PipelineResult& result) {
+  Figures f;
+  f.flat = result.stats.flat_share_after;
+  f.ruled = result.stats.shares_after.ruled;
+  f.mean = result.stats.mean_defect_after;
+  f.max = result.stats.max_defect_after;
+  return f;
+}
+
 PipelineResult finish_plan_result(const MeasuredInput& input, PipelineResult result, const Progress& progress) {
   if (input.object || result.stats.result != ResultKind::improved || !polish_enabled(input.options)) return result;
-  Figures figures;
-  figures.flat = result.stats.flat_share_after;
-  figures.ruled = result.stats.shares_after.ruled;
-  if (!worth_ruled_finish(figures)) return result;
+  if (!worth_ruled_finish(result_figures(result))) return result;
   const auto finish_start = Clock::now();
   MeasuredInput within = input;
   within.limit = result.stats.move_limit;

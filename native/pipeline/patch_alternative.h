@@ -21,6 +21,10 @@ namespace developable {
 // (cancelled, numerical_failure).
 PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches, const Progress& progress);
 
+// The figures the order reads of a result, from its stats (flat,
+// flat-and-ruled, mean and largest |defect|).
+Figures result_figures(const PipelineResult& result);
+
 // The plan's chosen result of a sheet finished flat and ruled (ruled_finish.h):
 // `result` of `input` (its patches, and its move limit stats.move_limit:
 // crease pieces run within the noise) when it is improved, not a whole

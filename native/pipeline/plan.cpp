@@ -132,16 +132,7 @@ std::optional<Patches> crease_pieces_of(const MeasuredInput& input, const Progre
   return fitted_patches(std::move(pieces.ids), pieces.count, input.normals, input.areas, options);
 }
 
-// What the rule reads of a result and of the input.
-Figures figures_of(const PipelineResult& r) {
-  Figures f;
-  f.flat = r.stats.flat_share_after;
-  f.ruled = r.stats.shares_after.ruled;
-  f.mean = r.stats.mean_defect_after;
-  f.max = r.stats.max_defect_after;
-  return f;
-}
-
+// What the rule reads of the input (result_figures: of a result).
 Figures figures_of(const MeasuredInput& input) {
   Figures f;
   f.flat = input.measured.stats.flat_share_before;
@@ -161,7 +152,7 @@ PipelineResult& preferred(const MeasuredInput& input, const std::vector<Pipeline
   for (PipelineResult* r : results) {
     if (r->stats.result != ResultKind::improved) continue;
     Contestant c;
-    c.figures = figures_of(*r);
+    c.figures = result_figures(*r);
     c.motion = motion_of(r->positions, input.positions);
     contestants.push_back(c);
     improved.push_back(r);
@@ -279,7 +270,7 @@ PipelineResult run_plan(const MeasuredInput& input, const Progress& progress) {
     PipelineResult creased = run_patch_alternative(within, std::move(*pieces), progress.sub(0.0, 0.5));
     PipelineResult other = run_without_crease_pieces(input, progress.sub(0.5, 1.0));
     const bool sheet = other.stats.result == ResultKind::improved &&
-                       one_sheet_within_noise(figures_of(other), figures_of(input),
+                       one_sheet_within_noise(result_figures(other), figures_of(input),
                                               motion_of(other.positions, input.positions).rms, noise);
     PipelineResult& chosen = others_compete(creased.stats.result == ResultKind::improved, sheet)
                                  ? preferred(input, {&other, &creased})

@@ -31,6 +31,9 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
   options.crease_groups = run.patch_ids;
   options.max_iterations = kRoundSteps;
   const Motion choice_motion = motion_of(choice.positions, input.positions);
+  const auto within_reach = [&](const Positions& p) {
+    return motion_of(p, input.positions).largest <= kFinishReach * choice_motion.largest;
+  };
   Positions positions = choice.positions;
   int iterations = 0;
   const double rounds = static_cast<double>(std::size(kFitWeights)) + 1.0;  // and the exact polish
@@ -42,7 +45,7 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
     iterations += round.iterations;
     // Past the reach (ruled_finish_kept) it gives up: the later rounds fit
     // the input more loosely.
-    if (motion_of(positions, input.positions).largest > kFinishReach * choice_motion.largest) return;
+    if (!within_reach(positions)) return;
   }
   if (iterations == 0) return;
   // The ruled polish stops once a vertex is within a share of the flat
@@ -58,7 +61,7 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
   exact.crease_groups = run.patch_ids;
   PolishResult polished = polish_defects(positions, input.positions, input.normals, input.triangles, run.scored,
                                          run.pinned, exact, progress.sub((rounds - 1.0) / rounds, 1.0));
-  if (motion_of(polished.positions, input.positions).largest <= kFinishReach * choice_motion.largest) {
+  if (within_reach(polished.positions)) {
     positions = std::move(polished.positions);
     iterations += polished.iterations;
   }

@@ -503,7 +503,7 @@ def test_over_the_budget_is_refused_before_anything_is_allocated(library, small_
 
 def test_the_coupled_solver_is_refused_sooner(library, monkeypatch):
     p, t = meshes.noisy_grid(100_000)
-    monkeypatch.setenv("DEVELOPABLE_MEMORY_BUDGET_MB", "300")
+    monkeypatch.setenv("DEVELOPABLE_MEMORY_BUDGET_MB", "600")
     status, message = refused(p, t, solver=native.SOLVER_COUPLED)
     assert status == "OUT_OF_MEMORY" and "decoupled" in message
     if SANITIZED:

@@ -48,6 +48,13 @@ namespace developable {
 struct PolishOptions {
   int max_iterations = 100;     // Levenberg-Marquardt iterations, >= 1
   double target_defect = 1e-7;  // stop once every |K| the polish works on is below this (rad)
+  // > 0: a polish solved by conjugate gradients (above direct_rows) also
+  // stops once every |K| it works on is below the flat threshold
+  // (kFlatDefect) and their RMS below this (rad): the order its result goes
+  // to cannot tell it from a longer polish (polish_plan), and inexact steps
+  // do not finish quadratically as factored ones do (those go on to
+  // target_defect in a few steps).
+  double settled_defect = 0.0;
   // Only vertices with |K| at or above this move, with their stars (rad); by
   // default a tenth of the flat threshold 1e-3.
   double active_defect = 1e-4;

@@ -32,11 +32,14 @@ constexpr double kCoupledBytesPerFace = 3000.0 * 1.6;
 constexpr double kBytesPerVertex = 24.0 * 10;              // positions: input, result, iterates, normals
 constexpr double kBytesPerTriangle = 12.0 * 4 + 36.0 * 2;  // copies, directed edges, sort
 constexpr double kBytesPerGridCell = 2 * 100.0;
-// The angle-defect polish (defect_polish.h): J and J J^T (about 20 entries a
-// row each, one row per vertex, ~ half a vertex per face) and its copies of
-// the positions; and the factor of a system of up to 20k rows (one per
-// vertex), about 200 entries a row.
-constexpr double kPolishBytesPerFace = 200.0;
+// The angle-defect polishes (defect_polish.h): J and J J^T (about 20 entries
+// a row each, one row per vertex, ~ half a vertex per face), their index
+// tables and copies of the positions, two at a time (least motion's
+// candidates run side by side), and the candidates' results; and the factor
+// of a system of up to 20k rows (one per vertex), about 200 entries a row.
+// A noisy 1M-face cylinder peaked at 2496 MiB with least motion's
+// candidates, 1062 without: 1.5 KB/face, with the safety factor 2.4 KB.
+constexpr double kPolishBytesPerFace = 2400.0;
 constexpr double kPolishFactorBytesPerRow = 200.0 * 12.0;
 constexpr double kPolishFactorRows = 20000.0;
 // Anderson acceleration of the refit mode's iterations (anderson_acceleration.h,

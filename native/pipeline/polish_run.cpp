@@ -7,12 +7,10 @@ namespace developable {
 namespace {
 
 // The polish works on the vertices whose |defect| is above PolishOptions'
-// default (1e-4 rad, a tenth of the flat threshold), and on meshes of up to
-// kLeastMoveVertices scored vertices above this share of the input's mean
-// |defect| if that is lower: a run can then remove 99.5 % of the mean even
-// when the input is nearly flat. Larger meshes keep the absolute threshold,
-// as the system then grows with the mesh (100k faces: polish 0.6 s instead
-// of 5.8 s, -99.3 % instead of -99.8 % on the benchmark's noisy cylinder).
+// default (1e-4 rad, a tenth of the flat threshold), and where least motion
+// may run (least_motion_size) above this share of the input's mean |defect|
+// if that is lower: a run can then remove 99.5 % of the mean even when the
+// input is nearly flat.
 constexpr double kPolishActiveShare = 0.005;
 // The second polish works on the scored vertices whose |defect| is below
 // this (rad; ten times the flat threshold) and leaves the rest to take up
@@ -44,6 +42,13 @@ constexpr double kInputPolishDamping = 1e-3;
 // measured; factored up to 10000 rows the held-out runs of 10k-20k faces
 // ended farther from their twins (mean log ratio 0.017 -> 0.039).
 constexpr int kCandidateDirectRows = 3000;
+// A polish solved by conjugate gradients stops once its rows are flat and
+// their RMS |K| is below this share of the input's mean |defect|
+// (PolishOptions::settled_defect): half the order's slack on the mean
+// (kDefectSlack), so two polishes stopped so are as developable as each
+// other. A noisy 100k-face cylinder's winning polish: 55 -> 13 steps, as
+// near its twin (docs/scans.md).
+constexpr double kSettledShare = 0.5 * kDefectSlack;
 
 // The vertices of `scored` whose |defect| in `defects` is under
 // kNearFlatDefect; empty when none is at or above it (nothing to let go).
@@ -95,6 +100,7 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   const MeasuredInput& input = run.input;
   PolishOptions result;
   result.limit = input.limit;
+  result.settled_defect = kSettledShare * input.before.mean_abs;
   // The crease guard goes on with the polish of a deformed result, and on
   // one patch with every polish. The polish of a segmented input (no better
   // iterate) is only judged by it (admit): as a guard of its steps it let
@@ -107,12 +113,13 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   }
   // Without a better iterate the polish starts from the input.
   if (!deformed) result.spread_damping = kInputPolishDamping;
-  if (run.scored_count <= kLeastMoveVertices)
+  const bool least_motion_size = !run.piecewise || run.scored_count <= kLeastMoveVertices;
+  if (least_motion_size)
     result.active_defect = std::min(result.active_defect, kPolishActiveShare * input.before.mean_abs);
   PolishOptions candidates = result;
   candidates.spread_damping = kInputPolishDamping;
   candidates.direct_rows = kCandidateDirectRows;
-  return {std::move(result), std::move(candidates), guarded && run.scored_count <= kLeastMoveVertices};
+  return {std::move(result), std::move(candidates), guarded && least_motion_size};
 }
 
 void polish_choice(const PatchRun& run, const PolishPlan& plan, Judge& judge, Choice& choice,

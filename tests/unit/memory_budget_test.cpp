@@ -87,7 +87,7 @@ TEST(MemoryBudget, RefusesOverTheBudgetAndSaysWhatToChange) {
 }
 
 TEST(MemoryBudget, CoupledIsRefusedSooner) {
-  Budget budget("300");
+  Budget budget("600");
   PipelineOptions decoupled, coupled;
   coupled.solver = Formulation::coupled;
   EXPECT_EQ(refusal(50000, 100000, decoupled), "");

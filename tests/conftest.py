@@ -97,6 +97,7 @@ SLOW = (
     "test_segmentation.py::test_whole_objects_with_the_defaults_bend_without_crumpling",
     "test_determinism.py::test_segmented_runs_repeat_bit_for_bit",
     "test_engine.py::test_larger_meshes_have_least_motions_candidates",
+    "test_engine.py::test_a_sheet_above_the_old_size_switch_keeps_its_shape",
 )
 WHEEL_BLENDERS = ("4.2", "5.0")
 

@@ -203,6 +203,22 @@ def test_larger_meshes_have_least_motions_candidates(library, family, triangulat
     assert sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) <= 1.5 * h0
 
 
+@pytest.mark.parametrize("family", ["cylinder_patch", "cone_patch"])
+def test_a_sheet_above_the_old_size_switch_keeps_its_shape(library, family):
+    """One patch has least motion's candidates at every size (polish_run.h;
+    docs/method.md, "Scans of any size"): a 60k-face scan at 2 % noise (30k
+    scored vertices, above the 25000 they stopped at) comes back within the
+    noise of its true shape, not 30 times it as the deformation alone left
+    the 100k-face ones (these two: 10.5 and 6.1 times)."""
+    m = families.make(family, "grid", faces=60000, noise=0.02, seed=103)
+    r = native.run(m.positions, m.triangles)
+    assert r.stats["interior_vertices"] > 25000
+    assert r.stats["result_origin"] in native.LEAST_MOTION_ORIGINS
+    assert r.stats["flat_share_after"] >= 0.99 and r.stats["faces_turned_over"] == 0
+    h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
+    assert sampled_hausdorff(r.positions, m.triangles, m.clean, m.triangles) <= 1.5 * h0
+
+
 def test_paper_curved_cone_beats_the_paper(library):
     """Table I's setting: boundary pinned, E_allow = 10 AE, omega = 5; the
     paper removed 67.8 % of the mean |defect|."""

@@ -10,13 +10,16 @@ Expected run time on 2 cores, fitted to docs/benchmarks.md (10k-1M faces):
                             ~300 segmented
   coupled factorisation     faces * 30 us * (faces / 1e4)^0.4: once in paper
                             mode, every iteration with the coupled solver
-  angle polish              faces * 6 us (1M faces: 5.6 s), when it runs
+  angle polish              on one patch with least motion's candidates
+                            7.6 s * (faces / 1e5)^0.75 (100k faces: 7.6 s,
+                            1M: 43 s; docs/scans.md, 2 % noise), segmented
+                            faces * 6 us (1M faces: 5.6 s), when it runs
 max_iterations caps the iterations. Automatic segmentation is decided by the
 engine, so the panel gives the range between the one-patch and the
 segmented run; an open mesh it splits, up to 10000 interior vertices (about
 SECOND_OPINION_FACES), is also run as one patch (docs/segmentation.md).
-Issue 37 measured a 500k-face sheet at 81 s where this said about 21 s: an
-engine-side estimate is being fitted to replace it."""
+Issue 37 measured a 500k-face sheet at 81 s where this said about 21 s, before
+least motion ran on large sheets; issue 38 asks for an engine-side fit."""
 
 LARGE_MESH_FACES = 100_000
 SECOND_OPINION_FACES = 20_000
@@ -41,7 +44,7 @@ def expected_seconds(faces, mode, solver, segmentation, fixed_patches, max_itera
 
     one_patch, segmented = run(25, 0.33e-6), run(300, 0.6e-6)
     if polish != "OFF":
-        one_patch, segmented = one_patch + faces * 6e-6, segmented + faces * 6e-6
+        one_patch, segmented = one_patch + 7.6 * (faces / 1e5) ** 0.75, segmented + faces * 6e-6
     if segmentation == "OFF":
         return one_patch, one_patch
     if segmentation == "ON" or fixed_patches > 1:

@@ -18,7 +18,7 @@ Admission admit(const Figures& candidate, const Figures& input, bool closed) {
 }
 
 bool visible_gain(const Figures& result, const Figures& input) {
-  return result.flat > input.flat || result.mean < (1.0 - kLeastGain) * input.mean;
+  return result.flat > input.flat || result.mean < (1.0 - kDefectSlack) * input.mean;
 }
 
 bool is_object(bool closed, double total_curvature) { return closed || total_curvature >= kObjectCurvature; }
@@ -95,10 +95,10 @@ void Rejections::record(const Admission& admission, double score, double input_s
 
 UnchangedReason unchanged_reason(const Rejections& r, double flat_share_before) {
   if (r.developable_patches) return UnchangedReason::developable_piecewise;
+  const bool nothing_broke = r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0 && r.creased == 0;
+  if (nothing_broke && flat_share_before >= 1.0) return UnchangedReason::already_flat;
   if (r.no_visible_gain > 0) return UnchangedReason::no_visible_gain;
-  if (r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0 && r.creased == 0)
-    return flat_share_before >= 1.0 ? UnchangedReason::already_flat : UnchangedReason::no_better_iterate;
-  return UnchangedReason::rejected;
+  return nothing_broke ? UnchangedReason::no_better_iterate : UnchangedReason::rejected;
 }
 
 int worse_figures(const PipelineStats& s) {

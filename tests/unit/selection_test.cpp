@@ -44,12 +44,12 @@ TEST(Selection, AdmitHoldsEveryFigureTheUserSeesToTheInputAndWantsAGain) {
   EXPECT_TRUE(score_only.no_visible_gain && !score_only.no_score_gain && !score_only.ok());
 }
 
-// A gain the user sees: more flat vertices, or a mean |defect| lower by a
-// millionth of the input's (kLeastGain).
+// A gain the user sees: more flat vertices, or a mean |defect| lower by
+// more than the order's slack on it (kDefectSlack, 1 % of the input's).
 TEST(Selection, VisibleGainIsMoreFlatVerticesOrALowerMean) {
   EXPECT_TRUE(visible_gain(figures(0.21, 0.01, 0.5), kInput));
-  EXPECT_TRUE(visible_gain(figures(0.2, 0.01 * (1 - 2e-6), 0.5), kInput));
-  EXPECT_FALSE(visible_gain(figures(0.2, 0.01 * (1 - 0.5e-6), 0.5), kInput));
+  EXPECT_TRUE(visible_gain(figures(0.2, 0.01 * (1 - 0.02), 0.5), kInput));
+  EXPECT_FALSE(visible_gain(figures(0.2, 0.01 * (1 - 0.005), 0.5), kInput));
 }
 
 // As developable: a flat share at most kFlatSlack (1 point) lower, a mean at
@@ -235,6 +235,16 @@ TEST(Selection, RejectionsAndTheUnchangedReason) {
   EXPECT_EQ(unchanged_reason(r, 0.2), UnchangedReason::no_visible_gain);
   r.developable_patches = true;
   EXPECT_EQ(unchanged_reason(r, 0.2), UnchangedReason::developable_piecewise);
+}
+
+// An input flat at every vertex whose results broke nothing but gained within
+// the order's slack is already flat, not a result that "made no vertex flat".
+TEST(Selection, AFlatInputWithoutAVisibleGainIsAlreadyFlat) {
+  Rejections r;
+  r.record(admit(figures(1.0, 0.01 * (1 - 0.003), 0.1, 0.001), figures(1.0, 0.01, 0.1, 0.01), false), 0.001, 0.01, 0);
+  EXPECT_EQ(r.no_visible_gain, 1);
+  EXPECT_EQ(unchanged_reason(r, 1.0), UnchangedReason::already_flat);
+  EXPECT_EQ(unchanged_reason(r, 0.99), UnchangedReason::no_visible_gain);
 }
 
 TEST(Selection, WorseFiguresFlagEveryFigureThatGotWorse) {

@@ -30,6 +30,13 @@ double largest_defect(const Positions& positions, const Triangles& triangles, co
   return angle_defects(positions, triangles, mask).cwiseAbs().maxCoeff();
 }
 
+// The polish of every interior vertex of `m` from its own positions.
+PolishResult polish_interior(const test::Mesh& m, const PolishOptions& options) {
+  const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
+  return polish_defects(m.positions, m.positions, face_normals(m.positions, m.triangles), m.triangles, interior, {},
+                        options, Progress{});
+}
+
 TEST(DefectPolish, DrivesTheDefectsOfANoisyDevelopableToZero) {
   const auto m = noisy_cylinder(0.01, 1);
   const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
@@ -238,10 +245,8 @@ TEST(DefectPolish, ConjugateGradientsAboveTheDirectRowsMoveAsLittle) {
   const Normals normals = face_normals(m.positions, m.triangles);
   PolishOptions iterative;
   iterative.direct_rows = 10;  // far below the ~250 constrained vertices
-  const PolishResult direct =
-      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, PolishOptions{}, Progress{});
-  const PolishResult r =
-      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, iterative, Progress{});
+  const PolishResult direct = polish_interior(m, PolishOptions{});
+  const PolishResult r = polish_interior(m, iterative);
   EXPECT_GT(r.iterations, 0);
   EXPECT_NE(r.positions, direct.positions);  // the other solver really ran
   EXPECT_LT(largest_defect(r.positions, m.triangles, interior), 1e-6);
@@ -261,15 +266,12 @@ TEST(DefectPolish, ConjugateGradientsAboveTheDirectRowsMoveAsLittle) {
 TEST(DefectPolish, AnIterativePolishStopsOnceSettled) {
   const auto m = noisy_cylinder(0.01, 3);
   const std::vector<bool> interior = interior_vertices(m.positions, m.triangles);
-  const Normals normals = face_normals(m.positions, m.triangles);
   PolishOptions iterative;
   iterative.direct_rows = 10;  // far below the ~250 constrained vertices
-  const PolishResult full =
-      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, iterative, Progress{});
+  const PolishResult full = polish_interior(m, iterative);
   PolishOptions settled = iterative;
   settled.settled_defect = 1e-4;
-  const PolishResult r =
-      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, settled, Progress{});
+  const PolishResult r = polish_interior(m, settled);
   EXPECT_GT(r.iterations, 0);
   EXPECT_LT(r.iterations, full.iterations);
   EXPECT_LT(largest_defect(r.positions, m.triangles, interior), kFlatDefect);
@@ -277,9 +279,7 @@ TEST(DefectPolish, AnIterativePolishStopsOnceSettled) {
   EXPECT_GT(r.residual_after, full.residual_after);
   PolishOptions factored;
   factored.settled_defect = 1e-4;
-  const PolishResult direct =
-      polish_defects(m.positions, m.positions, normals, m.triangles, interior, {}, factored, Progress{});
-  EXPECT_LT(direct.residual_after, 1e-7);
+  EXPECT_LT(polish_interior(m, factored).residual_after, 1e-7);
 }
 
 TEST(DefectPolish, KeepsPinsAndTheLimit) {

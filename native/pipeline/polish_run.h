@@ -11,12 +11,13 @@
 
 namespace developable {
 
-// One patch has least motion's candidates at every size, and its polishes
-// work on vertices down to kPolishActiveShare of the input's mean |defect|
-// (polish_plan): without them a noisy 100k-face cylinder came back 32 times
-// the noise from its twin, with them 0.99 (docs/scans.md). Segmented meshes
-// have them up to this many scored vertices (about 50k faces): above, they
-// cost a 100k-face noisy rounded box 105 s instead of 16 (docs/scans.md,
+// A sheet of one patch has least motion's candidates at every size, and its
+// polishes work on vertices down to kPolishActiveShare of the input's mean
+// |defect| (polish_plan): without them a noisy 100k-face cylinder came back
+// 32 times the noise from its twin, with them 0.99 (docs/scans.md).
+// Segmented meshes and whole objects have them up to this many scored
+// vertices (about 50k faces): above, they cost a 100k-face noisy rounded box
+// 96 s instead of 16 and an 82k-face blob 73 s instead of 10 (docs/scans.md,
 // issue 38). Below it they are what keeps the shape: on 10k to 50k faces
 // without them held-out family runs on grids ended up to 41 times the noise
 // from their twins (random-curve tangent developables), with them at most
@@ -27,8 +28,9 @@ inline constexpr std::ptrdiff_t kLeastMoveVertices = 25000;
 struct PolishPlan {
   PolishOptions result;      // the choice's polish and its nearly flat rounds
   PolishOptions candidates;  // least motion's polishes of the input and its smoothings
-  // Whether least motion's candidates compete: one patch, or pieces whose
-  // deformation improved the input up to kLeastMoveVertices scored vertices.
+  // Whether least motion's candidates compete: a sheet of one patch, or
+  // pieces whose deformation improved the input, up to kLeastMoveVertices
+  // scored vertices but on a sheet of one patch.
   bool least_motion = false;
 };
 

@@ -113,7 +113,7 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   }
   // Without a better iterate the polish starts from the input.
   if (!deformed) result.spread_damping = kInputPolishDamping;
-  const bool least_motion_size = (!run.piecewise && !input.object) || run.scored_count <= kLeastMoveVertices;
+  const bool least_motion_size = !run.piecewise || run.scored_count <= kLeastMoveVertices;
   if (least_motion_size)
     result.active_defect = std::min(result.active_defect, kPolishActiveShare * input.before.mean_abs);
   PolishOptions candidates = result;

@@ -188,10 +188,10 @@ def test_the_projected_smoothed_input_keeps_the_vertices_on_the_surface(library,
     ],
 )
 def test_larger_meshes_have_least_motions_candidates(library, family, triangulation, seed):
-    """Meshes of up to 25000 scored vertices (about 50k faces, the top of issue
-    11's range) have every candidate of least motion (pipeline.cpp,
-    kLeastMoveVertices); with the limit at 3000 (10000 for one candidate)
-    the deformation's moves stayed. Held-out seeds at 10k-50k faces
+    """Meshes of 10k-50k faces (the top of issue 11's range) have every
+    candidate of least motion (polish_run.h; at every size since issue 38);
+    with the limit at 3000 (10000 for one candidate) the deformation's moves
+    stayed. Held-out seeds at 10k-50k faces
     (docs/families.md, "Larger meshes")."""
     m = families.random_case(family, seed, faces=(10000, 50000), triangulations=[triangulation])
     r = native.run(m.positions, m.triangles)
@@ -207,7 +207,7 @@ def test_larger_meshes_have_least_motions_candidates(library, family, triangulat
 def test_a_sheet_above_the_old_size_switch_keeps_its_shape(library, family):
     """One patch has least motion's candidates at every size (polish_run.h;
     docs/method.md, "Scans of any size"): a 60k-face scan at 2 % noise (30k
-    scored vertices, above the 25000 they stopped at) comes back within the
+    scored vertices, above the 25000 they once stopped at) comes back within the
     noise of its true shape, not 30 times it as the deformation alone left
     the 100k-face ones (these two: 10.5 and 6.1 times)."""
     m = families.make(family, "grid", faces=60000, noise=0.02, seed=103)

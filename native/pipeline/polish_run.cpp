@@ -7,10 +7,9 @@ namespace developable {
 namespace {
 
 // The polish works on the vertices whose |defect| is above PolishOptions'
-// default (1e-4 rad, a tenth of the flat threshold), and where least motion
-// may run (least_motion_size) above this share of the input's mean |defect|
-// if that is lower: a run can then remove 99.5 % of the mean even when the
-// input is nearly flat.
+// default (1e-4 rad, a tenth of the flat threshold), and above this share
+// of the input's mean |defect| if that is lower: a run can then remove 99.5 %
+// of the mean even when the input is nearly flat.
 constexpr double kPolishActiveShare = 0.005;
 // The second polish works on the scored vertices whose |defect| is below
 // this (rad; ten times the flat threshold) and leaves the rest to take up
@@ -113,13 +112,11 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   }
   // Without a better iterate the polish starts from the input.
   if (!deformed) result.spread_damping = kInputPolishDamping;
-  const bool least_motion_size = !run.piecewise || run.scored_count <= kLeastMoveVertices;
-  if (least_motion_size)
-    result.active_defect = std::min(result.active_defect, kPolishActiveShare * input.before.mean_abs);
+  result.active_defect = std::min(result.active_defect, kPolishActiveShare * input.before.mean_abs);
   PolishOptions candidates = result;
   candidates.spread_damping = kInputPolishDamping;
   candidates.direct_rows = kCandidateDirectRows;
-  return {std::move(result), std::move(candidates), guarded && least_motion_size};
+  return {std::move(result), std::move(candidates), guarded};
 }
 
 void polish_choice(const PatchRun& run, const PolishPlan& plan, Judge& judge, Choice& choice,

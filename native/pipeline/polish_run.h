@@ -11,25 +11,15 @@
 
 namespace developable {
 
-// One patch has least motion's candidates at every size, and its polishes
-// work on vertices down to kPolishActiveShare of the input's mean |defect|
-// (polish_plan): without them a noisy 100k-face cylinder came back 32 times
-// the noise from its twin, with them 0.99 (docs/scans.md). Segmented runs
-// have them up to this many scored vertices (about 50k faces); above, only
-// a 100k-face noisy rounded box was measured with them (173 CPU s against
-// 156, 95.8 % flat and ruled against 93.1), no 1M-face object (issue 38).
-// Below it they are what keeps the shape: on 10k to 50k faces without them
-// held-out family runs on grids ended up to 41 times the noise from their
-// twins (random-curve tangent developables), with them at most 1.46
-// (docs/families.md, "Larger meshes").
-inline constexpr std::ptrdiff_t kLeastMoveVertices = 25000;
-
 // The run's polishes, decided once the deformation has run.
 struct PolishPlan {
   PolishOptions result;      // the choice's polish and its nearly flat rounds
   PolishOptions candidates;  // least motion's polishes of the input and its smoothings
   // Whether least motion's candidates compete: one patch, or pieces whose
-  // deformation improved the input up to kLeastMoveVertices scored vertices.
+  // deformation improved the input; at every size (docs/method.md, "Scans
+  // of any size": up to 2026-12-05 they stopped at 25000 scored vertices,
+  // and a noisy 100k-face cylinder came back 32 times the noise from its
+  // twin, a segmented random-curve tangent developable 55-97 times).
   bool least_motion = false;
 };
 

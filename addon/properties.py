@@ -302,7 +302,7 @@ def engine_property_definitions():
             name="Polish Smoothed Mesh",
             default=True,
             update=u,
-            description="On meshes of up to 25000 inner vertices, also polish the mesh with its "
+            description="Also polish the mesh with its "
             "noise smoothed (each vertex put on a quadric fitted to its neighbours, creases kept) "
             "and keep that if it moved the mesh less and is as flat: a noisy scan then loses its "
             "noise, not its shape; on a one-piece sheet also the nearest developable mesh found "

@@ -44,12 +44,13 @@ constexpr double kFinishDecrease = 0.03;
 // The conjugate gradients' limits (DampedSystem, above options.direct_rows):
 // a polish starts with kIterativeSteps iterations a solve, truncated
 // conjugate gradients being an inexact Newton step that the
-// Levenberg-Marquardt test takes or not like any other; where its steps
-// stall, kIterativeGrowth times as many, up to kMostIterativeSteps. 100
+// Levenberg-Marquardt test takes or not like any other; where a kept step
+// takes off less than kRefineDecrease of sum K^2, or the stall rule would
+// stop, kIterativeGrowth times as many, up to kMostIterativeSteps. 100
 // iterations throughout (before) reached a relative residual of 1e-2 to 1 on
 // a 100k-face noisy cylinder and spent 60 % of the run in them; starting at
-// 10, the held-out family runs of 10k-40k faces took half the CPU time and
-// ended as near their twins (docs/scans.md).
+// 10, held-out family runs of 10k-40k faces took 37 % less CPU time and
+// ended nearer their twins (docs/method.md, "Scans of any size").
 constexpr int kIterativeSteps = 10;
 constexpr int kIterativeGrowth = 3;
 constexpr int kMostIterativeSteps = 90;
@@ -606,9 +607,8 @@ PolishResult RegionPolish::run(Eigen::VectorXd defects) {
     // damping lean toward the gradient and may still descend (human_woman
     // rounded to single precision: its polish stopped at the 8th step; going
     // on, the run ends 55 % flat instead of 53 %, its mean |defect| -3.7 %
-    // instead of +1.3 %).
-    // Truncated conjugate gradients' steps that stall get more iterations
-    // first.
+    // instead of +1.3 %). Truncated conjugate gradients' steps that gain
+    // little get more iterations before anything else.
     const bool tiny = decrease < kStallDecrease;
     const bool stalled = !tiny && stalls();
     if ((tiny || stalled || decrease < kRefineDecrease) && system_.refine()) {

@@ -125,17 +125,19 @@ double median(std::vector<double> values) {
   return *middle;
 }
 
-// Steps 1 and 2: the candidates, one edge across.
-std::vector<bool> candidates(const LineMesh& mesh, const Eigen::VectorXd& score) {
+// Steps 1 and 2: the candidates, one edge across: scores above line_score,
+// dihedral angles at least ridge_ratio times the facets beside them.
+std::vector<bool> candidates(const LineMesh& mesh, const Eigen::VectorXd& score, double line_score,
+                             double ridge_ratio) {
   const size_t m = mesh.edges.size();
   std::vector<bool> ridge(m, false);
   std::vector<int> near, side;
   for (size_t e = 0; e < m; ++e) {
-    if (mesh.edges[e].g < 0 || !(score[static_cast<Eigen::Index>(e)] > kLineScore)) continue;
+    if (mesh.edges[e].g < 0 || !(score[static_cast<Eigen::Index>(e)] > line_score)) continue;
     mesh.beside(static_cast<int>(e), kBesideParallel, near, side);
     std::vector<double> facets[2];
     for (size_t k = 0; k < near.size(); ++k) facets[side[k]].push_back(mesh.dihedral[static_cast<size_t>(near[k])]);
-    ridge[e] = mesh.dihedral[e] >= kRidgeRatio * std::max(median(facets[0]), median(facets[1]));
+    ridge[e] = mesh.dihedral[e] >= ridge_ratio * std::max(median(facets[0]), median(facets[1]));
   }
   std::vector<bool> kept = ridge;
   for (size_t e = 0; e < m; ++e) {
@@ -221,7 +223,7 @@ std::vector<int> face_roots(const LineMesh& mesh, const CutGraph& graph) {
   return roots;
 }
 
-// Step 3a: loops around one or two faces opened at their weakest cut edge,
+// Step 3: loops around one or two faces opened at their weakest cut edge,
 // until none is left.
 void open_tiny_loops(const LineMesh& mesh, const Eigen::VectorXd& score, CutGraph& graph) {
   while (true) {
@@ -243,7 +245,7 @@ void open_tiny_loops(const LineMesh& mesh, const Eigen::VectorXd& score, CutGrap
   }
 }
 
-// Steps 3b and 5: branches of fewer than kSpurEdges edges from a loose end
+// Steps 3 and 6: branches of fewer than kSpurEdges edges from a loose end
 // to a junction or the boundary removed, one at a time (a junction left
 // with two edges is a line again), until none is left.
 void drop_spurs(const LineMesh& mesh, CutGraph& graph) {
@@ -264,8 +266,45 @@ void drop_spurs(const LineMesh& mesh, CutGraph& graph) {
   }
 }
 
-// Step 3c: chains (connected cut edges) with too little evidence or extent
-// removed.
+// Step 4, first: from each loose end, the weak candidate that turns least
+// from the line's last edge (within the parallels' cosine) is cut too, until
+// no end has one.
+void grow_from_ends(const LineMesh& mesh, const std::vector<bool>& weak, CutGraph& graph) {
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (int v = 0; v < static_cast<int>(mesh.connectivity.vertex_count()); ++v) {
+      if (!graph.end(v)) continue;
+      const Eigen::Vector3d on = (mesh.point(v) - mesh.point(mesh.other(graph.at(v).front(), v))).normalized();
+      int best = -1;
+      double straightest = kBesideParallel;
+      for (const int* e = mesh.begin(v); e != mesh.end(v); ++e) {
+        if (!weak[static_cast<size_t>(*e)] || graph.cut(*e)) continue;
+        const double turn = (mesh.point(mesh.other(*e, v)) - mesh.point(v)).normalized().dot(on);
+        if (turn > straightest) {
+          straightest = turn;
+          best = *e;
+        }
+      }
+      if (best >= 0) {
+        graph.add(best);
+        changed = true;
+      }
+    }
+  }
+}
+
+// A chain is a closed ring: every vertex of its edges on two cut edges, none
+// on the boundary.
+bool closed_ring(const LineMesh& mesh, const CutGraph& graph, const std::vector<int>& edges) {
+  for (int e : edges)
+    for (int v : {mesh.edges[static_cast<size_t>(e)].a, mesh.edges[static_cast<size_t>(e)].b})
+      if (graph.degree(v) != 2 || mesh.boundary[static_cast<size_t>(v)]) return false;
+  return true;
+}
+
+// Step 4, then: chains (connected cut edges) with too little evidence, or
+// too little extent unless a ring, removed.
 void drop_weak_chains(const LineMesh& mesh, const Eigen::VectorXd& score, CutGraph& graph) {
   const Eigen::Index n = mesh.connectivity.vertex_count();
   UnionFind chains(static_cast<size_t>(n));
@@ -292,7 +331,8 @@ void drop_weak_chains(const LineMesh& mesh, const Eigen::VectorXd& score, CutGra
   }
   for (auto& [root, chain] : by_root) {
     const double extent = (chain.high - chain.low).norm();
-    if (chain.evidence < kLineEvidence || extent < kLineExtent * median(chain.lengths))
+    const bool ring = static_cast<int>(chain.edges.size()) >= kRingEdges && closed_ring(mesh, graph, chain.edges);
+    if (chain.evidence < kLineEvidence || (!ring && extent < kLineExtent * median(chain.lengths)))
       for (int e : chain.edges) graph.remove(e);
   }
 }
@@ -323,7 +363,7 @@ Eigen::Vector3d trace_plane(const LineMesh& mesh, const std::vector<int>& vertic
   return direction.cross(mesh.vertex_normal(vertices.front())).normalized();
 }
 
-// Step 4 for one loose end: the edges from it, along its branch's plane,
+// Step 5 for one loose end: the edges from it, along its branch's plane,
 // each step to the neighbour nearest the plane that moves on along the
 // plane's line on the surface, until a vertex on another line (not its own
 // last few) or on the boundary; nothing when it leaves the mesh over a
@@ -374,7 +414,7 @@ std::optional<Bridge> trace(const LineMesh& mesh, const CutGraph& graph, int end
   return std::nullopt;
 }
 
-// Step 4: the loose ends traced, the shortest bridge taken first, until no
+// Step 5: the loose ends traced, the shortest bridge taken first, until no
 // end finds one; an end that found none does not try again.
 void bridge_gaps(const LineMesh& mesh, CutGraph& graph) {
   const int n = static_cast<int>(mesh.connectivity.vertex_count());
@@ -400,9 +440,10 @@ std::vector<bool> crease_lines(const Positions& positions, const Triangles& tria
                                const VertexFaces& connectivity, const std::vector<MeshEdge>& edges,
                                const CreaseStrengths& strengths) {
   const LineMesh mesh(positions, triangles, normals, connectivity, edges);
-  CutGraph graph(mesh, candidates(mesh, strengths.score));
+  CutGraph graph(mesh, candidates(mesh, strengths.score, kLineScore, kRidgeRatio));
   open_tiny_loops(mesh, strengths.score, graph);
   drop_spurs(mesh, graph);
+  grow_from_ends(mesh, candidates(mesh, strengths.score, kWeakLineScore, kWeakRidgeRatio), graph);
   drop_weak_chains(mesh, strengths.score, graph);
   bridge_gaps(mesh, graph);
   drop_spurs(mesh, graph);

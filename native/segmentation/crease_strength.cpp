@@ -187,6 +187,17 @@ double median_noise(const std::vector<EdgeFit>& fits) {
   return *middle / kMedianNormalNorm;
 }
 
+// The median tilt per unit noise of the faces with an area; 0 without one.
+double median_tilt(const std::vector<FaceData>& data) {
+  std::vector<double> tilts;
+  for (const FaceData& d : data)
+    if (std::isfinite(d.tilt)) tilts.push_back(d.tilt);
+  if (tilts.empty()) return 0.0;
+  const auto middle = tilts.begin() + static_cast<std::ptrdiff_t>(tilts.size() / 2);
+  std::nth_element(tilts.begin(), middle, tilts.end());
+  return *middle;
+}
+
 double mean_edge_length(const Positions& positions, const std::vector<MeshEdge>& edges) {
   double sum = 0.0;
   for (const MeshEdge& e : edges) sum += (positions.row(e.a) - positions.row(e.b)).norm();
@@ -205,9 +216,10 @@ CreaseStrengths crease_strengths(const Positions& positions, const Triangles& tr
   std::vector<EdgeFit> fits = fit_edges(positions, triangles, normals, connectivity, edges, data, usable, threads);
   CreaseStrengths out;
   out.noise = std::max(median_noise(fits), kNoiseFloor * mean_edge_length(positions, edges));
+  const double outlier = kOutlierTilt * median_tilt(data);
   bool dropped = false;
   for (size_t f = 0; f < data.size(); ++f) {
-    const bool keep = usable[f] && out.noise * data[f].tilt < kUnreliableTilt;
+    const bool keep = usable[f] && (out.noise * data[f].tilt < kUnreliableTilt || data[f].tilt < outlier);
     dropped = dropped || keep != usable[f];
     usable[f] = keep;
   }

@@ -21,9 +21,9 @@
 // The noise is not an input: it is read off the mesh as the median score per
 // unit noise over the edges (most edges are not on a crease), over the median
 // of a two-dimensional standard normal's norm. Faces that noise of that size
-// would tilt by more than kUnreliableTilt (the sliver fan at a cone's apex,
-// edges as short as the noise) carry no direction and are left out of the
-// fits.
+// would tilt by more than kUnreliableTilt, and that tilt far more than the
+// mesh's typical face (the sliver fan at a cone's apex, edges as short as the
+// noise), carry no direction and are left out of the fits.
 #pragma once
 
 #include "core/mesh_connectivity.h"
@@ -60,6 +60,15 @@ Eigen::Matrix3d barycentric_gradients(const Positions& positions, const Triangle
 // as short as 1/20 of the mean; with 3 % noise their normals turned by up to
 // 1.4 rad and made lines of scores above 30 (tuning seeds 0-19).
 inline constexpr double kUnreliableTilt = 0.3;
+
+// ... and whose tilt per unit noise is above this many times the median
+// face's. On a mesh of slivers every face tilts alike, and the noise read off
+// it holds what the slivers' facets make of the fits (2.1-2.7 times the
+// noise on the sliver cups of devkit/assemblies.py, seeds 100-119): by the
+// rule above a third of the faces went, with them every score along a cup's
+// rim, and a 77-degree crease was not found. The apex fans' faces tilt 20
+// times the median and more.
+inline constexpr double kOutlierTilt = 3.0;
 
 // A side's fit needs this many faces (three unknowns per component and one
 // to spare); an edge with fewer on a side (on or next to the boundary) gets

@@ -1,7 +1,8 @@
 // crease_lines.h: a noisy fold is cut along its line and nowhere else; a
 // noisy plane or cylinder is not cut; a noisy mitred pipe is cut all around
 // its mitre, across the sides where its crease fades into the noise (the
-// gaps bridged); boundary edges are never cut.
+// gaps bridged), and under loud noise too (its line grown over weak
+// candidates); boundary edges are never cut.
 #include "segmentation/crease_lines.h"
 
 #include "core/measures.h"
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <utility>
 
 namespace developable {
@@ -103,6 +105,23 @@ TEST(CreaseLines, AMitredPipeIsCutAllAroundItsMitre) {
       }
     }
   }
+}
+
+TEST(CreaseLines, UnderLoudNoiseAMitresLineIsGrownAllAround) {
+  // At 4 % noise the 30 degree mitre's edges score 2-5: the strong candidates
+  // are stretches a few edges long, too weak alone to be lines. Grown from
+  // their ends over the weak candidates, they meet (without the growth 2 of
+  // these 8 seeds were cut in two).
+  const double turn = 30.0 * M_PI / 180.0;
+  const int cols = 48;
+  int halved = 0;
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    test::Mesh m = test::mitred_pipe(33, cols, turn);
+    test::add_noise(m.positions, 0.04 * 2.0 * M_PI / cols, seed);
+    const std::vector<int> roots = pieces_of(m, lines_of(m));
+    halved += std::set<int>(roots.begin(), roots.end()).size() == 2;
+  }
+  EXPECT_GE(halved, 6);
 }
 
 }  // namespace

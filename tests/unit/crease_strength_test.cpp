@@ -141,6 +141,25 @@ TEST(CreaseStrength, ANoisyFoldStandsOutAgainstItsNoise) {
   EXPECT_LT(loud, 0.1 * away);
 }
 
+TEST(CreaseStrength, SliversThatTiltAlikeStayInTheFits) {
+  // A pipe of slivers, 12 facets around and cells some six times as long
+  // around as along: the noise read off it is 2.8 times the noise's own (what
+  // the facets make of the fits), which tilts every sliver by more than
+  // kUnreliableTilt. They tilt alike, so they stay, and the edges are scored.
+  test::Mesh m = test::mitred_pipe(61, 12, 0.5);
+  test::add_noise(m.positions, 0.02 * 2.0 * M_PI / 12, 3);
+  const Scored s = score(m);
+  int tilted = 0;
+  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {
+    const double tilt = std::sqrt(barycentric_gradients(m.positions, m.triangles, f).squaredNorm() / 2.0);
+    tilted += s.strengths.noise * tilt > kUnreliableTilt;
+  }
+  EXPECT_GT(tilted, 0.9 * m.triangles.rows());
+  int scored = 0;
+  for (Eigen::Index e = 0; e < s.strengths.score.size(); ++e) scored += s.strengths.score[e] > 0.0;
+  EXPECT_GT(scored, 0.9 * s.strengths.score.size());
+}
+
 TEST(CreaseStrength, AnyThreadCountGivesTheSameScores) {
   test::Mesh m = test::mitred_pipe(41, 64, 0.5);
   test::add_noise(m.positions, 0.002, 11);

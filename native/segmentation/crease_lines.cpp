@@ -268,7 +268,9 @@ void drop_spurs(const LineMesh& mesh, CutGraph& graph) {
 
 // Step 4, first: from each loose end, the weak candidate that turns least
 // from the line's last edge (within the parallels' cosine) is cut too, until
-// no end has one.
+// no end has one. A line grows into another's loose end, not into its middle:
+// such a junction cuts the other line's branch short, and the trace of its
+// gap (step 5), which reaches as far as its branch is long, then fails.
 void grow_from_ends(const LineMesh& mesh, const std::vector<bool>& weak, CutGraph& graph) {
   bool changed = true;
   while (changed) {
@@ -279,8 +281,9 @@ void grow_from_ends(const LineMesh& mesh, const std::vector<bool>& weak, CutGrap
       int best = -1;
       double straightest = kBesideParallel;
       for (const int* e = mesh.begin(v); e != mesh.end(v); ++e) {
-        if (!weak[static_cast<size_t>(*e)] || graph.cut(*e)) continue;
-        const double turn = (mesh.point(mesh.other(*e, v)) - mesh.point(v)).normalized().dot(on);
+        const int w = mesh.other(*e, v);
+        if (!weak[static_cast<size_t>(*e)] || graph.cut(*e) || (graph.on_line(w) && !graph.end(w))) continue;
+        const double turn = (mesh.point(w) - mesh.point(v)).normalized().dot(on);
         if (turn > straightest) {
           straightest = turn;
           best = *e;

@@ -14,7 +14,8 @@
 //      line or the boundary) are dropped.
 //   4. Lines grown on (hysteresis, as Canny's edges): from each loose end,
 //      the weak candidate that goes on most nearly straight (steps 1 and 2
-//      with kWeakLineScore and kWeakRidgeRatio) joins, until none does. Under
+//      with kWeakLineScore and kWeakRidgeRatio), and does not run into the
+//      middle of another line, joins, until none does. Under
 //      noise of 3-5 % of the edge length a mitre's edges score 2-5 and the
 //      strong candidates are stretches a few edges long; grown, they meet.
 //      Then chains whose evidence (the sum of their scores above kLineScore)

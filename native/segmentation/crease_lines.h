@@ -32,7 +32,8 @@
 // The constants were tuned on seeds 0-19 of devkit/assemblies.py (every part,
 // triangulation and noise 0.5-5 %), the weak candidates' and the rings' on
 // seeds 0-19 and 200-239, and are held to seeds 100-119 by
-// tests/test_assemblies_engine.py; docs/segmentation.md has the figures.
+// tests/test_assemblies_engine.py; docs/method.md ("Crease pieces") has the
+// figures.
 #pragma once
 
 #include "core/mesh_connectivity.h"

@@ -175,16 +175,21 @@ std::vector<EdgeFit> fit_edges(const Positions& positions, const Triangles& tria
   return fits;
 }
 
+// The middle value (0 without one).
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
 // The noise (caller's units) that makes the median score what noise alone
 // gives: most edges are not on a crease. 0 without a scored edge.
 double median_noise(const std::vector<EdgeFit>& fits) {
   std::vector<double> scores;
   for (const EdgeFit& fit : fits)
     if (fit.found) scores.push_back(std::sqrt(fit.score_squared));
-  if (scores.empty()) return 0.0;
-  const auto middle = scores.begin() + static_cast<std::ptrdiff_t>(scores.size() / 2);
-  std::nth_element(scores.begin(), middle, scores.end());
-  return *middle / kMedianNormalNorm;
+  return median(std::move(scores)) / kMedianNormalNorm;
 }
 
 // The median tilt per unit noise of the faces with an area; 0 without one.
@@ -192,10 +197,7 @@ double median_tilt(const std::vector<FaceData>& data) {
   std::vector<double> tilts;
   for (const FaceData& d : data)
     if (std::isfinite(d.tilt)) tilts.push_back(d.tilt);
-  if (tilts.empty()) return 0.0;
-  const auto middle = tilts.begin() + static_cast<std::ptrdiff_t>(tilts.size() / 2);
-  std::nth_element(tilts.begin(), middle, tilts.end());
-  return *middle;
+  return median(std::move(tilts));
 }
 
 double mean_edge_length(const Positions& positions, const std::vector<MeshEdge>& edges) {

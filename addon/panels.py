@@ -16,7 +16,7 @@ from bpy.types import Panel
 
 from . import gauss_image, mesh_io, writeback
 from .core import native
-from .core.estimate import LARGE_MESH_FACES, expected_seconds
+from .core.estimate import LARGE_MESH_FACES, boundary_edges, expected_seconds
 from .core.text import (
     designer_words,
     duration,
@@ -325,6 +325,7 @@ class VIEW3D_PT_developable(Panel):
                     duration(t)
                     for t in expected_seconds(
                         faces,
+                        boundary_edges(len(obj.data.edges), len(obj.data.loops)) == 0,
                         settings.mode,
                         settings.solver,
                         settings.segmentation,

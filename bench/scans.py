@@ -12,7 +12,9 @@ sees (flat, flat-and-ruled and crumpled shares after; for sheets the largest and
 the noise-free twin over the input's). At the end it fits CPU seconds = a * faces^b for each kind
 (one-patch sheets, segmented objects) and gives each run's ratio to the fit. --keep keeps the
 rows of --json whose sizes this run does not measure (the 1M cases can then run on their own);
---render only writes the table again from --json.
+--render only writes the table again from --json. With sheets and objects at two sizes or more it
+also fits the add-on's time estimate (wall seconds per kind) and writes it into
+addon/core/estimate.py.
 CPU seconds are what the fit uses: wall seconds on a shared machine depend on what else runs."""
 import argparse
 import json
@@ -30,6 +32,7 @@ sys.path.insert(0, str(REPO))
 from devkit import families, objects
 from devkit.machine import machine_info
 from devkit.obj import read_obj, write_obj
+from addon.core import estimate
 
 SHEETS = ("cylinder_patch", "cone_patch", "bent_sheet", "tangent_random")
 SHEET_NOISE = (0.005, 0.02, 0.05)  # of the average edge length
@@ -85,14 +88,51 @@ def twin_distances(before, after, clean):
     return float(d1.max() / d0.max()), float(np.sqrt((d1**2).mean() / (d0**2).mean()))
 
 
-def power_fit(rows):
-    """(a, b) of cpu = a * faces^b, least squares on the logarithms; None with fewer than 2 sizes."""
+def power_fit(rows, seconds="cpu_s"):
+    """(a, b) of seconds = a * faces^b, least squares on the logarithms; None with fewer than 2 sizes."""
     if len({r["size"] for r in rows}) < 2:
         return None
     faces = np.array([r["faces"] for r in rows], float)
-    cpu = np.array([r["cpu_s"] for r in rows], float)
+    cpu = np.array([r[seconds] for r in rows], float)
     b, log_a = np.polyfit(np.log(faces), np.log(cpu), 1)
     return float(np.exp(log_a)), float(b)
+
+
+def panel_estimate(rows):
+    """The add-on's estimate per kind (addon/core/estimate.py MEASURED): wall seconds = a * (faces /
+    1e5)^b fitted over every size, and the runs of the sizes from LARGE_MESH_FACES on (those the panel
+    estimates) over the fit from low to high."""
+    out = {}
+    for kind in ("sheet", "object"):
+        mine = [r for r in rows if r["kind"] == kind]
+        fit = power_fit(mine, "wall_s")
+        large = [r for r in mine if r["size"] >= estimate.LARGE_MESH_FACES]
+        if fit is None or not large:
+            continue
+        a, b = fit[0] * 1e5 ** fit[1], fit[1]
+        ratios = [r["wall_s"] / (a * (r["faces"] / 1e5) ** b) for r in large]
+        out[kind] = {"a": a, "b": b, "low": min(ratios), "high": max(ratios)}
+    return out
+
+
+def write_estimate(fits, info):
+    """Rewrites the MEASURED block of addon/core/estimate.py (between its bench/scans.py markers)."""
+    path = REPO / "addon" / "core" / "estimate.py"
+    text = path.read_text()
+    begin, end = "# bench/scans.py: begin\n", "# bench/scans.py: end\n"
+    head, rest = text.split(begin)
+    _, tail = rest.split(end)
+    rounded = lambda x: float("%.3g" % x)  # noqa: E731
+    block = [
+        "# Wall seconds = a * (faces / 1e5)^b; measured runs at 100k faces and more",
+        "# over the fit from low to high (bench/scans.py, %s," % info["date"],
+        "# %s, %d cores)." % (info["cpu"], info["cores"]),
+        "MEASURED = {",
+    ]
+    for kind, fit in fits.items():
+        block.append('    "%s": {%s},' % (kind, ", ".join('"%s": %r' % (k, rounded(v)) for k, v in fit.items())))
+    block.append("}")
+    path.write_text(head + begin + "\n".join(block) + "\n" + end + tail)
 
 
 HEADER = (
@@ -199,6 +239,10 @@ def main():
     table = [HEADER, "|" + "---|" * (HEADER.count("|") - 1)] + [table_row(r) for r in rows]
     md.write_text("\n".join(intro + table + [""] + lines) + "\n")
     raw.write_text(json.dumps({"machine": info, "rows": rows, "fits": fits}, indent=1))
+    panel = panel_estimate(rows)
+    if len(panel) == 2:
+        write_estimate(panel, info)
+        print("written: addon/core/estimate.py (the panel's estimate)")
     print("written: %s, %s" % (md, raw))
 
 

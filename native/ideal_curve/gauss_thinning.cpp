@@ -28,19 +28,21 @@ GaussThinning::GaussThinning(const Positions& positions, const Triangles& triang
     throw EngineError(Status::invalid_argument, "gauss thinning: one piece id per face");
   Positions centroids(m, 3);
   for (Eigen::Index f = 0; f < m; ++f)
-    centroids.row(f) = (positions.row(triangles(f, 0)) + positions.row(triangles(f, 1)) +
-                        positions.row(triangles(f, 2))) / 3.0;
+    centroids.row(f) =
+        (positions.row(triangles(f, 0)) + positions.row(triangles(f, 1)) + positions.row(triangles(f, 2))) / 3.0;
   // A grid of cells of side `radius`: each face's neighbours are in the 27
   // cells around its own. Cells are keyed and sorted, not hashed, so the
   // lists come out the same on every run.
-  const Eigen::RowVector3d low = m > 0 ? Eigen::RowVector3d(centroids.colwise().minCoeff()) : Eigen::RowVector3d::Zero();
+  const Eigen::RowVector3d low =
+      m > 0 ? Eigen::RowVector3d(centroids.colwise().minCoeff()) : Eigen::RowVector3d::Zero();
   std::array<std::int64_t, 3> dims{1, 1, 1};
   std::vector<std::array<std::int64_t, 3>> cell(static_cast<size_t>(m));
   for (Eigen::Index f = 0; f < m; ++f)
     for (int d = 0; d < 3; ++d) {
       cell[static_cast<size_t>(f)][static_cast<size_t>(d)] =
           static_cast<std::int64_t>(std::floor((centroids(f, d) - low[d]) / radius));
-      dims[static_cast<size_t>(d)] = std::max(dims[static_cast<size_t>(d)], cell[static_cast<size_t>(f)][static_cast<size_t>(d)] + 1);
+      dims[static_cast<size_t>(d)] =
+          std::max(dims[static_cast<size_t>(d)], cell[static_cast<size_t>(f)][static_cast<size_t>(d)] + 1);
     }
   const auto key = [&](std::int64_t x, std::int64_t y, std::int64_t z) { return (x * dims[1] + y) * dims[2] + z; };
   std::vector<std::pair<std::int64_t, int>> keyed(static_cast<size_t>(m));
@@ -78,26 +80,38 @@ Normals GaussThinning::targets(const Normals& normals, double cone, int threads)
   const Eigen::Index m = static_cast<Eigen::Index>(offsets_.size()) - 1;
   if (normals.rows() != m) throw EngineError(Status::internal_error, "gauss thinning: one normal per face");
   if (!(cone > 0.0)) throw EngineError(Status::invalid_argument, "gauss thinning: the cone must be positive");
-  Normals out(m, 3);
   const double cos_cone = std::cos(cone);
   const double width = kConeWidth * cone;
+  // Each pair's weight once: the neighbourhoods are symmetric and so is the
+  // weight, so the pair (f, g), f <= g, adds to f's moments and to g's. f's
+  // terms still come in ascending order of the neighbour (those of e < f
+  // when e was visited, then its own sweep), so every sum is the one a
+  // sweep of each face's own list gives, bit for bit, at half the acos and
+  // exp (a third of an object's thinning).
+  std::vector<Eigen::Matrix3d> moments(static_cast<size_t>(m), Eigen::Matrix3d::Zero());
+  for (Eigen::Index f = 0; f < m; ++f) {
+    const Eigen::Vector3d n = normals.row(f).transpose();
+    for (const int* g = std::lower_bound(begin(f), end(f), static_cast<int>(f)); g != end(f); ++g) {
+      const Eigen::Vector3d ng = normals.row(*g).transpose();
+      const double c = std::clamp(n.dot(ng), -1.0, 1.0);
+      if (c < cos_cone) continue;
+      const double angle = std::acos(c) / width;
+      const double weight = std::exp(-angle * angle);
+      moments[static_cast<size_t>(f)].noalias() += weight * ng * ng.transpose();
+      if (*g != f) moments[static_cast<size_t>(*g)].noalias() += weight * n * n.transpose();
+    }
+  }
+  Normals out(m, 3);
   parallel_for(m, kChunk, threads, [&](Eigen::Index first, Eigen::Index last) {
     for (Eigen::Index f = first; f < last; ++f) {
       const Eigen::Vector3d n = normals.row(f).transpose();
-      Eigen::Matrix3d moments = Eigen::Matrix3d::Zero();
-      for (const int* g = begin(f); g != end(f); ++g) {
-        const Eigen::Vector3d ng = normals.row(*g).transpose();
-        const double c = std::clamp(n.dot(ng), -1.0, 1.0);
-        if (c < cos_cone) continue;
-        const double angle = std::acos(c) / width;
-        moments.noalias() += std::exp(-angle * angle) * ng * ng.transpose();
-      }
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-      solver.computeDirect(moments);  // closed form: the thinning's time was half the iterative solver's
+      solver.computeDirect(moments[static_cast<size_t>(f)]);  // closed form: half the iterative solver's time
       const Eigen::Vector3d axis = solver.eigenvectors().col(0);
       Eigen::Vector3d target = n - n.dot(axis) * axis;
       const double length = target.norm();
-      out.row(f) = length > 1e-12 ? Eigen::RowVector3d((target / length).transpose()) : Eigen::RowVector3d(n.transpose());
+      out.row(f) =
+          length > 1e-12 ? Eigen::RowVector3d((target / length).transpose()) : Eigen::RowVector3d(n.transpose());
     }
   });
   return out;

@@ -1,7 +1,8 @@
 // gauss_thinning.h: a ruled surface's targets are its normals (its Gauss
 // image is a curve already); a sphere's are pulled off its normals onto
-// great circles; neighbourhoods hold the face itself, are symmetric, stay
-// within the radius and, with pieces, within a piece.
+// great circles; the targets are the per-face definition bit for bit;
+// neighbourhoods hold the face itself, are symmetric, stay within the
+// radius and, with pieces, within a piece.
 #include "ideal_curve/gauss_thinning.h"
 
 #include "core/measures.h"
@@ -9,7 +10,11 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 
 namespace developable {
 namespace {
@@ -61,7 +66,8 @@ TEST(GaussThinning, NeighbourhoodsAreSymmetricWithinTheRadiusAndThePieces) {
     const GaussThinning thinning(m.positions, m.triangles, radius, ids);
     const auto centroid = [&](Eigen::Index f) {
       return Eigen::RowVector3d((m.positions.row(m.triangles(f, 0)) + m.positions.row(m.triangles(f, 1)) +
-                                 m.positions.row(m.triangles(f, 2))) / 3.0);
+                                 m.positions.row(m.triangles(f, 2))) /
+                                3.0);
     };
     for (Eigen::Index f = 0; f < faces; ++f) {
       EXPECT_TRUE(std::binary_search(thinning.begin(f), thinning.end(f), static_cast<int>(f)));
@@ -71,6 +77,47 @@ TEST(GaussThinning, NeighbourhoodsAreSymmetricWithinTheRadiusAndThePieces) {
         if (!ids.empty()) EXPECT_EQ(ids[static_cast<size_t>(*g)], ids[static_cast<size_t>(f)]);
       }
     }
+  }
+}
+
+// The targets as the header defines them, each face's sum over its own
+// neighbours in ascending order (the class computes each pair's weight once).
+Normals targets_by_definition(const GaussThinning& thinning, const Normals& normals, double cone) {
+  Normals out(normals.rows(), 3);
+  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
+    const Eigen::Vector3d n = normals.row(f).transpose();
+    Eigen::Matrix3d moments = Eigen::Matrix3d::Zero();
+    for (const int* g = thinning.begin(f); g != thinning.end(f); ++g) {
+      const Eigen::Vector3d ng = normals.row(*g).transpose();
+      const double c = std::clamp(n.dot(ng), -1.0, 1.0);
+      if (c < std::cos(cone)) continue;
+      const double angle = std::acos(c) / (2.0 * cone);
+      moments.noalias() += std::exp(-angle * angle) * ng * ng.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(moments);
+    const Eigen::Vector3d axis = solver.eigenvectors().col(0);
+    const Eigen::Vector3d target = n - n.dot(axis) * axis;
+    out.row(f) = target.norm() > 1e-12 ? Eigen::RowVector3d(target.normalized().transpose()) : normals.row(f);
+  }
+  return out;
+}
+
+TEST(GaussThinning, TargetsAreTheDefinitionsBitForBit) {
+  // A noisy sphere split in two pieces: every face's neighbours and weights.
+  test::Mesh m = test::sphere(3);
+  std::srand(7);
+  for (Eigen::Index v = 0; v < m.positions.rows(); ++v)
+    m.positions.row(v) *= 1.0 + 0.02 * (static_cast<double>(std::rand()) / RAND_MAX - 0.5);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  std::vector<int> pieces(static_cast<size_t>(m.triangles.rows()));
+  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f)
+    pieces[static_cast<size_t>(f)] = m.positions(m.triangles(f, 0), 0) > 0.1;
+  const double edge = average_edge_length(m.positions, m.triangles);
+  for (const std::vector<int>& ids : {std::vector<int>(), pieces}) {
+    const GaussThinning thinning(m.positions, m.triangles, 3.0 * edge, ids);
+    for (const double cone : {0.1, 0.44})
+      EXPECT_TRUE(thinning.targets(normals, cone, 2) == targets_by_definition(thinning, normals, cone));
   }
 }
 

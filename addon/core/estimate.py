@@ -33,11 +33,11 @@ LARGE_MESH_FACES = 100_000
 
 # bench/scans.py: begin
 # Wall seconds = a * (faces / 1e5)^b; measured runs at 100k faces and more
-# over the fit from low to high (bench/scans.py, 2026-12-05 10:53 UTC,
+# over the fit from low to high (bench/scans.py, 2026-12-05 12:45 UTC,
 # Intel(R) Xeon(R) Processor, 2 cores).
 MEASURED = {
-    "sheet": {"a": 8.17, "b": 0.956, "low": 0.513, "high": 2.99},
-    "object": {"a": 83.4, "b": 0.999, "low": 0.881, "high": 1.21},
+    "sheet": {"a": 8.54, "b": 0.956, "low": 0.509, "high": 2.98},
+    "object": {"a": 83.6, "b": 0.984, "low": 0.91, "high": 1.15},
 }
 # bench/scans.py: end
 

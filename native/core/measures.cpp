@@ -165,6 +165,7 @@ CreaseGuard::CreaseGuard(const Triangles& triangles, const Normals& reference, c
                          double growth) {
   if (!(growth > 0.0) || triangles.rows() == 0) return;
   const VertexFaces table = vertex_faces(triangles, triangles.maxCoeff() + 1);
+  edges_.reserve(static_cast<size_t>(3 * triangles.rows() / 2));  // inner edges, each seen once
   for (Eigen::Index f = 0; f < triangles.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
       const int g = face_across(table, triangles, static_cast<int>(f), triangles(f, k), triangles(f, (k + 1) % 3));
@@ -172,7 +173,7 @@ CreaseGuard::CreaseGuard(const Triangles& triangles, const Normals& reference, c
       const bool one_group = groups.empty() || groups[static_cast<size_t>(f)] == groups[static_cast<size_t>(g)];
       if (!one_group || reference.row(f).squaredNorm() == 0.0 || reference.row(g).squaredNorm() == 0.0) continue;
       const double limit = angle_between(reference.row(f), reference.row(g)) + growth;
-      if (limit < M_PI) edges_.push_back({f, g, std::cos(limit)});  // else no angle is wider
+      if (limit < M_PI) edges_.push_back({static_cast<int>(f), g, std::cos(limit)});  // else no angle is wider
     }
 }
 

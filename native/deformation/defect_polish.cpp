@@ -174,29 +174,50 @@ class NormalMatrix {
         row_at_[slot] = static_cast<int>(r);
         value_at_[slot] = k;
       }
-    // The pattern: (i, j) wherever rows i and j share a free vertex.
-    std::vector<std::vector<int>> neighbours(static_cast<size_t>(rows));
-    for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
-      for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a)
-        for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b)
-          neighbours[static_cast<size_t>(row_at_[static_cast<size_t>(a)])].push_back(row_at_[static_cast<size_t>(b)]);
-    Eigen::VectorXi sizes(rows);
-    for (Eigen::Index r = 0; r < rows; ++r) {
-      auto& list = neighbours[static_cast<size_t>(r)];
-      std::sort(list.begin(), list.end());
-      list.erase(std::unique(list.begin(), list.end()), list.end());
-      sizes[r] = static_cast<int>(list.size());
-    }
+    // The pattern, column by column straight into the compressed storage
+    // (counted, then filled): (i, r) wherever rows i and r share a free
+    // vertex, i.e. the rows holding the free vertices of row r's star
+    // (`seen` drops repeats). Symmetric, so column r lists row r's
+    // neighbours.
     matrix_.resize(rows, rows);
-    matrix_.reserve(sizes);
-    for (Eigen::Index r = 0; r < rows; ++r)
-      for (int c : neighbours[static_cast<size_t>(r)]) matrix_.insert(c, r) = 0.0;
-    matrix_.makeCompressed();
+    std::vector<int> seen(static_cast<size_t>(rows), -1);
+    const auto each_neighbour = [&](Eigen::Index r, const auto& take) {
+      for (int k = jacobian.outerIndexPtr()[r]; k < jacobian.outerIndexPtr()[r + 1]; k += 3) {
+        const auto u = static_cast<size_t>(jacobian.innerIndexPtr()[k] / 3);
+        for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a) {
+          const int i = row_at_[static_cast<size_t>(a)];
+          if (seen[static_cast<size_t>(i)] == r) continue;
+          seen[static_cast<size_t>(i)] = static_cast<int>(r);
+          take(i);
+        }
+      }
+    };
+    int* outer = matrix_.outerIndexPtr();
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      outer[r + 1] = outer[r];
+      each_neighbour(r, [&](int) { ++outer[r + 1]; });
+    }
+    matrix_.resizeNonZeros(outer[rows]);
+    std::fill(seen.begin(), seen.end(), -1);
+    int* inner = matrix_.innerIndexPtr();
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      int next = outer[r];
+      each_neighbour(r, [&](int i) { inner[next++] = i; });
+      std::sort(inner + outer[r], inner + next);
+    }
+    std::fill(matrix_.valuePtr(), matrix_.valuePtr() + matrix_.nonZeros(), 0.0);
     // Where each product of a shared vertex goes, in the order of the sums.
+    size_t products = 0;
+    for (size_t u = 0; u + 1 < vertex_start_.size(); ++u) {
+      const auto count = static_cast<size_t>(vertex_start_[u + 1] - vertex_start_[u]);
+      products += count * count;
+    }
+    target_.reserve(products);
     for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
       for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a)
         for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b)
-          target_.push_back(position(row_at_[static_cast<size_t>(a)], row_at_[static_cast<size_t>(b)]));
+          target_.push_back(
+              static_cast<int>(position(row_at_[static_cast<size_t>(a)], row_at_[static_cast<size_t>(b)])));
     diagonal_.resize(static_cast<size_t>(rows));
     for (Eigen::Index r = 0; r < rows; ++r) diagonal_[static_cast<size_t>(r)] = position(r, r);
   }
@@ -238,7 +259,7 @@ class NormalMatrix {
   std::vector<int> vertex_start_;  // free vertex -> its first entry in row_at_ / value_at_
   std::vector<int> row_at_;        // the rows holding the vertex, ascending
   std::vector<int> value_at_;      // the position of J(row, 3u) in J's values
-  std::vector<Eigen::Index> target_;
+  std::vector<int> target_;        // positions in the values (int: a 1M-row J J^T has about 20M)
   std::vector<Eigen::Index> diagonal_;
   Eigen::SparseMatrix<double> matrix_;
 };

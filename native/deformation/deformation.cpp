@@ -272,12 +272,25 @@ void NormalGuidedDeformation::set_targets(const Normals& targets) {
   if (formulation_ == Formulation::coupled) factor_coupled();
 }
 
+void NormalGuidedDeformation::release() {
+  solver_.reset();
+  free_free_ = Eigen::SparseMatrix<double>();
+  free_pinned_ = Eigen::SparseMatrix<double>();
+  triangles_ = Triangles();
+  row_weights_ = Eigen::VectorXd();
+  targets_ = Normals();
+  normal_weights_ = Eigen::VectorXd();
+  free_index_ = std::vector<int>();
+}
+
 Positions NormalGuidedDeformation::step(const Positions& current) const {
+  if (!solver_) throw EngineError(Status::internal_error, "deformation: the system was released");
   if (formulation_ == Formulation::coupled) return step_coupled(current);
   return step_decoupled(current, face_normals(current, triangles_));
 }
 
 Positions NormalGuidedDeformation::step(const Positions& current, const Normals& normals) const {
+  if (!solver_) throw EngineError(Status::internal_error, "deformation: the system was released");
   if (formulation_ == Formulation::coupled) return step_coupled(current);
   if (normals.rows() != triangles_.rows())
     throw EngineError(Status::internal_error, "deformation: one normal per triangle");

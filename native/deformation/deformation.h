@@ -112,6 +112,12 @@ class NormalGuidedDeformation {
   // otherwise compute them again; the coupled one ignores them.
   Positions step(const Positions& current, const Normals& normals) const;
 
+  // Frees the factorisation, the normal matrix and the rest of the system
+  // (the largest part of a run's memory after the iterations: 400 MB of a
+  // 1M-face sheet's); a step after it throws EngineError(internal_error),
+  // targets() is empty.
+  void release();
+
   // The normal matrix on the free unknowns (n_free x n_free in the decoupled
   // formulation, 3 n_free square in the coupled one), for benchmarks of the
   // linear solve (bench/solvers.cpp).

@@ -65,8 +65,9 @@ DeformationRun::DeformationRun(const PatchRun& run, TargetField targets, Pipelin
       targets_(std::move(targets)),
       decompose_start_((progress.report(0.08, "factorization"), Clock::now())),
       deformation_(system_of(run, targets_.targets())),
-      step_(deformation_, run.input.positions, run.input.normals, run.input.triangles, run.input.connectivity,
-            formulation_of(run.input.options) == Formulation::decoupled, run.input.limit, run.input.options.mode,
+      step_(std::in_place, deformation_, run.input.positions, run.input.normals, run.input.triangles,
+            run.input.connectivity, formulation_of(run.input.options) == Formulation::decoupled, run.input.limit,
+            run.input.options.mode,
             CreaseGuard(run.input.triangles, run.input.normals, run.patch_ids, run.crease_growth)),
       chosen_curves_(targets_.curves()),
       chosen_targets_(targets_.targets()) {
@@ -80,16 +81,16 @@ DeformationRun::DeformationRun(const PatchRun& run, TargetField targets, Pipelin
 
 void DeformationRun::advance(Positions& current, Normals& normals) {
   if (!acceleration_) {
-    stats_.fold_retries += step_.advance(current, normals);
+    stats_.fold_retries += step_->advance(current, normals);
     return;
   }
   const Positions previous = current;
-  stats_.fold_retries += step_.advance(current, normals);
+  stats_.fold_retries += step_->advance(current, normals);
   std::optional<Positions> mixed = acceleration_->next(previous, current);
   if (!mixed) return;
   clamp_moves(*mixed, run_.input.positions, run_.input.limit);
   Normals mixed_normals = face_normals(*mixed, run_.input.triangles);
-  if (mixed->allFinite() && step_.accepts(mixed_normals)) {
+  if (mixed->allFinite() && step_->accepts(mixed_normals)) {
     current = std::move(*mixed);
     normals = std::move(mixed_normals);
   } else {
@@ -158,6 +159,10 @@ void DeformationRun::iterate(Judge& judge, Choice& choice, const Progress& progr
       break;
     }
   }
+  // The history is of no use after the iterations (step_from takes a plain
+  // step): its memory goes before least motion's candidates are polished
+  // (five differences of positions and steps, 240 bytes a vertex).
+  acceleration_.reset();
   // The iterate kept competes with candidates (select): its rulings too.
   if (choice.origin == ResultOrigin::deformation)
     judge.complete(choice.measured, choice.positions, face_normals(choice.positions, input.triangles));
@@ -168,7 +173,7 @@ void DeformationRun::step_from(Positions& start) {
   Normals start_normals = face_normals(start, run_.input.triangles);
   targets_.refit(start, start_normals);
   deformation_.set_targets(targets_.targets());
-  stats_.fold_retries += step_.advance(start, start_normals);
+  stats_.fold_retries += step_->advance(start, start_normals);
 }
 
 }  // namespace developable

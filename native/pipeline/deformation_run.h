@@ -48,12 +48,19 @@ class DeformationRun {
   // The iterations: every admissible iterate that scores below the choice's
   // best score becomes the choice (ResultOrigin::deformation, with the
   // curves and targets of its step). Sets stats' iterations, stop reason,
-  // fold retries and t_I.
+  // fold retries and t_I. Once: the acceleration's history goes at its end.
   void iterate(Judge& judge, Choice& choice, const Progress& progress);
 
   // One fold-safe step from `start` toward targets refit on it (least
   // motion's smoothed start); `start` is moved.
   void step_from(Positions& start);
+
+  // Frees the system and the fold-safe step once no step will follow
+  // (NormalGuidedDeformation::release); the chosen curves and targets stay.
+  void release() {
+    step_.reset();
+    deformation_.release();
+  }
 
   // The curves and targets of the step that made the choice (the input's
   // fit while the choice is the input).
@@ -70,7 +77,7 @@ class DeformationRun {
   TargetField targets_;
   Clock::time_point decompose_start_;
   NormalGuidedDeformation deformation_;
-  FoldSafeStep step_;
+  std::optional<FoldSafeStep> step_;  // empty after release()
   std::optional<AndersonAcceleration> acceleration_;
   std::vector<PatchCurve> chosen_curves_;
   Normals chosen_targets_;

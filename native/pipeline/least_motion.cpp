@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace developable {
@@ -114,27 +115,43 @@ Positions projection_start(const PatchRun& run) {
   return start;
 }
 
+// The input with its noise smoothed (jet_denoise, within the limit) and,
+// from a deformed result, that smoothing after one deformation step toward
+// targets refit on it.
+struct SmoothedInput {
+  Positions smoothed;
+  std::optional<Positions> stepped;
+};
+
+SmoothedInput smoothed_input(const PatchRun& run, DeformationRun& deformation, bool deformed) {
+  const MeasuredInput& input = run.input;
+  SmoothedInput out;
+  out.smoothed = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned);
+  clamp_moves(out.smoothed, input.positions, input.limit);
+  if (deformed) {
+    out.stepped = out.smoothed;
+    deformation.step_from(*out.stepped);
+  }
+  return out;
+}
+
 // The smoothed starts (after the polish of the input and the choice's own):
 // the smoothing, its step, the projection's start, each where it can win.
-void add_smoothed_starts(const PatchRun& run, DeformationRun& deformation, bool deformed, Contest& contest,
-                         std::vector<Start>& starts) {
+void add_smoothed_starts(const PatchRun& run, SmoothedInput smoothed, Contest& contest, std::vector<Start>& starts) {
   const MeasuredInput& input = run.input;
-  Positions smoothed = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned);
-  clamp_moves(smoothed, input.positions, input.limit);
-  const double smoothing_move = motion_of(smoothed, input.positions).rms;
+  const double smoothing_move = motion_of(smoothed.smoothed, input.positions).rms;
   if (contest.bound() > kShapeChangeMove * smoothing_move)
     contest.set_shape_roughness(
-        normal_roughness(face_normals(smoothed, input.triangles), input.triangles, input.connectivity));
+        normal_roughness(face_normals(smoothed.smoothed, input.triangles), input.triangles, input.connectivity));
   const bool same_start = smoothing_move < kSameStartShare * contest.bound();
-  // Where the deformation found nothing better, only the projected start:
-  // the guarded ones cost a 28k-face irregular mesh 4 s, and without them 7
-  // of the 611 family runs of seeds 0-9 and 100-102 changed, the mean log
-  // ratio to the twin by 0.0002.
-  if (!same_start && deformed) {
-    starts.push_back({smoothed, ResultOrigin::smoothed_input_polish, smoothing_move, {}});
-    deformation.step_from(smoothed);
-    const double stepped_move = motion_of(smoothed, input.positions).rms;
-    starts.push_back({std::move(smoothed), ResultOrigin::smoothed_step_polish, stepped_move, {}});
+  // Where the deformation found nothing better (no step), only the projected
+  // start: the guarded ones cost a 28k-face irregular mesh 4 s, and without
+  // them 7 of the 611 family runs of seeds 0-9 and 100-102 changed, the mean
+  // log ratio to the twin by 0.0002.
+  if (!same_start && smoothed.stepped) {
+    starts.push_back({std::move(smoothed.smoothed), ResultOrigin::smoothed_input_polish, smoothing_move, {}});
+    const double stepped_move = motion_of(*smoothed.stepped, input.positions).rms;
+    starts.push_back({std::move(*smoothed.stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
   }
   // The projection, on one patch (a segmented object's creases and corners
   // are cut by that smoothing: it won on none of the shared meshes and cost
@@ -153,6 +170,13 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
                           const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
                           const Progress& progress) {
   const MeasuredInput& input = run.input;
+  // A deformed result's smoothed starts are made first, so that the
+  // deformation's system (its factor: 360 MB of a 1M-face sheet's peak) goes
+  // before any polish runs; the step is wasted only where the smoothing
+  // turns out to move the input too little to compete (same_start).
+  std::optional<SmoothedInput> smoothed;
+  if (input.options.polish_smoothed_input && deformed) smoothed = smoothed_input(run, deformation, deformed);
+  deformation.release();
   std::vector<Start> starts;
   starts.push_back({input.positions, ResultOrigin::input_polish, 0.0, {}});
   if (deformed) {
@@ -179,7 +203,8 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
   if (choice.improved) contest.add(choice, false);
   // Nothing to compete with when even the polish of the input found nothing better.
   if (input.options.polish_smoothed_input && choice.improved)
-    add_smoothed_starts(run, deformation, deformed, contest, starts);
+    add_smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(run, deformation, false), contest,
+                        starts);
   // A start as far as the winner so far, or a polish that went as far at any
   // step (PolishResult::largest_move), cannot win.
   const auto judge_candidate = [&](const Start& start) {

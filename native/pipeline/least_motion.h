@@ -22,7 +22,8 @@ namespace developable {
 // polish) among them, and makes the order's winner the choice.
 //   polish_choice: the choice's own polish (polish_choice), run here beside
 //   the polish of the input, which does not depend on it;
-//   deformation: the run's, for the smoothed start's step; deformed: whether
+//   deformation: the run's, for the smoothed start's step (taken first; the
+//   system is released before any polish runs); deformed: whether
 //   the deformation improved the input (else only the polish of the input
 //   and the projected start compete).
 // A candidate that cannot win is not polished, or gives up: one that starts

@@ -102,6 +102,24 @@ TEST(Deformation, OwnNormalsAsTargetsLeaveAPlaneInPlace) {
   }
 }
 
+TEST(Deformation, AReleasedSystemRefusesToStep) {
+  const auto m = test::plane(6, 7);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  for (Formulation formulation : {Formulation::decoupled, Formulation::coupled}) {
+    NormalGuidedDeformation deformation(m.triangles, std::vector<bool>(m.positions.rows(), false),
+                                        Eigen::VectorXd::Ones(m.triangles.rows()), 5.0, 1.0, formulation, normals);
+    deformation.release();
+    EXPECT_EQ(deformation.targets().rows(), 0);
+    try {
+      deformation.step(m.positions, normals);
+      ADD_FAILURE() << "a released system stepped";
+    } catch (const EngineError& e) {
+      EXPECT_EQ(e.status(), Status::internal_error);
+    }
+    EXPECT_THROW(deformation.step(m.positions), EngineError);
+  }
+}
+
 TEST(Deformation, Refusals) {
   const auto m = test::plane(4, 4);
   const Normals normals = face_normals(m.positions, m.triangles);

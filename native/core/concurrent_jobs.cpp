@@ -57,10 +57,14 @@ bool is_cancel(const std::exception_ptr& error) {
 
 }  // namespace
 
+unsigned thread_count(int threads) {
+  return threads > 0 ? static_cast<unsigned>(threads) : std::max(1u, std::thread::hardware_concurrency());
+}
+
 void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress) {
   const size_t n = jobs.size();
   if (n == 0) return;
-  const size_t cores = threads > 0 ? static_cast<size_t>(threads) : std::max(1u, std::thread::hardware_concurrency());
+  const size_t cores = thread_count(threads);
   const size_t helpers = std::min(cores, n) - 1;  // threads besides the calling one
 
   Relay relay(n);
@@ -147,8 +151,7 @@ void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,
   if (count <= 0) return;
   chunk = std::max<Eigen::Index>(chunk, 1);
   const Eigen::Index chunks = (count + chunk - 1) / chunk;
-  const unsigned cores =
-      threads > 0 ? static_cast<unsigned>(threads) : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned cores = thread_count(threads);
   const auto workers = static_cast<size_t>(std::min<Eigen::Index>(std::min(cores, 8u), chunks));
   std::vector<std::exception_ptr> errors(static_cast<size_t>(chunks));
   std::atomic<Eigen::Index> next{0};

@@ -41,6 +41,10 @@ using Job = std::function<void(const Progress&)>;
 // callback cancelled.
 void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress);
 
+// The threads that `threads` asks for: itself when positive, else one per
+// core (at least 1).
+unsigned thread_count(int threads);
+
 // Runs body(begin, end) once for each chunk [k chunk, (k + 1) chunk) of
 // [0, count), the chunks taken in turn by up to `threads` threads (the
 // calling one included; 0: one per core, at most 8). The chunks are fixed

@@ -16,6 +16,12 @@ namespace {
 constexpr Eigen::Index kChunk = 4096;
 // The Gaussian weight's width in cones: exp(-(angle / (kConeWidth cone))^2).
 constexpr double kConeWidth = 2.0;
+// Up to this many threads each pair of neighbours is weighed once, on the
+// calling thread (a whole object's thinning at half the CPU, in the wall
+// time two threads take to sweep every face's own list); with more, every
+// face sweeps its own list, the faces split among the threads. The same
+// targets bit for bit either way.
+constexpr unsigned kPairSweepThreads = 2;
 
 }  // namespace
 
@@ -82,12 +88,43 @@ Normals GaussThinning::targets(const Normals& normals, double cone, int threads)
   if (!(cone > 0.0)) throw EngineError(Status::invalid_argument, "gauss thinning: the cone must be positive");
   const double cos_cone = std::cos(cone);
   const double width = kConeWidth * cone;
-  // Each pair's weight once: the neighbourhoods are symmetric and so is the
-  // weight, so the pair (f, g), f <= g, adds to f's moments and to g's. f's
-  // terms still come in ascending order of the neighbour (those of e < f
-  // when e was visited, then its own sweep), so every sum is the one a
-  // sweep of each face's own list gives, bit for bit, at half the acos and
-  // exp (a third of an object's thinning).
+  // The weight of a neighbour whose normal's cosine with f's is c (within
+  // the cone); the cosine of (f, g) is the one of (g, f), bit for bit.
+  const auto weight = [&](double c) {
+    const double angle = std::acos(c) / width;
+    return std::exp(-angle * angle);
+  };
+  // f's target from the sum of its neighbours' weighted n n^T.
+  const auto target = [&](Eigen::Index f, const Eigen::Matrix3d& moments) -> Eigen::RowVector3d {
+    const Eigen::Vector3d n = normals.row(f).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(moments);  // closed form: half the iterative solver's time
+    const Eigen::Vector3d axis = solver.eigenvectors().col(0);
+    const Eigen::Vector3d projected = n - n.dot(axis) * axis;
+    const double length = projected.norm();
+    return length > 1e-12 ? Eigen::RowVector3d((projected / length).transpose()) : Eigen::RowVector3d(n.transpose());
+  };
+  Normals out(m, 3);
+  if (thread_count(threads) > kPairSweepThreads) {
+    // Each face sweeps its own list, the faces split among the threads.
+    parallel_for(m, kChunk, threads, [&](Eigen::Index first, Eigen::Index last) {
+      for (Eigen::Index f = first; f < last; ++f) {
+        const Eigen::Vector3d n = normals.row(f).transpose();
+        Eigen::Matrix3d moments = Eigen::Matrix3d::Zero();
+        for (const int* g = begin(f); g != end(f); ++g) {
+          const Eigen::Vector3d ng = normals.row(*g).transpose();
+          const double c = std::clamp(n.dot(ng), -1.0, 1.0);
+          if (c >= cos_cone) moments.noalias() += weight(c) * ng * ng.transpose();
+        }
+        out.row(f) = target(f, moments);
+      }
+    });
+    return out;
+  }
+  // Each pair once: the pair (f, g), f <= g, adds to f's moments and to
+  // g's. f's terms still come in ascending order of the neighbour (those of
+  // e < f when e was visited, then its own sweep), so every sum is the one
+  // above, bit for bit, at half the acos and exp.
   std::vector<Eigen::Matrix3d> moments(static_cast<size_t>(m), Eigen::Matrix3d::Zero());
   for (Eigen::Index f = 0; f < m; ++f) {
     const Eigen::Vector3d n = normals.row(f).transpose();
@@ -95,24 +132,13 @@ Normals GaussThinning::targets(const Normals& normals, double cone, int threads)
       const Eigen::Vector3d ng = normals.row(*g).transpose();
       const double c = std::clamp(n.dot(ng), -1.0, 1.0);
       if (c < cos_cone) continue;
-      const double angle = std::acos(c) / width;
-      const double weight = std::exp(-angle * angle);
-      moments[static_cast<size_t>(f)].noalias() += weight * ng * ng.transpose();
-      if (*g != f) moments[static_cast<size_t>(*g)].noalias() += weight * n * n.transpose();
+      const double w = weight(c);
+      moments[static_cast<size_t>(f)].noalias() += w * ng * ng.transpose();
+      if (*g != f) moments[static_cast<size_t>(*g)].noalias() += w * n * n.transpose();
     }
   }
-  Normals out(m, 3);
   parallel_for(m, kChunk, threads, [&](Eigen::Index first, Eigen::Index last) {
-    for (Eigen::Index f = first; f < last; ++f) {
-      const Eigen::Vector3d n = normals.row(f).transpose();
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-      solver.computeDirect(moments[static_cast<size_t>(f)]);  // closed form: half the iterative solver's time
-      const Eigen::Vector3d axis = solver.eigenvectors().col(0);
-      Eigen::Vector3d target = n - n.dot(axis) * axis;
-      const double length = target.norm();
-      out.row(f) =
-          length > 1e-12 ? Eigen::RowVector3d((target / length).transpose()) : Eigen::RowVector3d(n.transpose());
-    }
+    for (Eigen::Index f = first; f < last; ++f) out.row(f) = target(f, moments[static_cast<size_t>(f)]);
   });
   return out;
 }

@@ -81,7 +81,8 @@ TEST(GaussThinning, NeighbourhoodsAreSymmetricWithinTheRadiusAndThePieces) {
 }
 
 // The targets as the header defines them, each face's sum over its own
-// neighbours in ascending order (the class computes each pair's weight once).
+// neighbours in ascending order (on up to two threads the class computes
+// each pair's weight once).
 Normals targets_by_definition(const GaussThinning& thinning, const Normals& normals, double cone) {
   Normals out(normals.rows(), 3);
   for (Eigen::Index f = 0; f < normals.rows(); ++f) {
@@ -116,8 +117,10 @@ TEST(GaussThinning, TargetsAreTheDefinitionsBitForBit) {
   const double edge = average_edge_length(m.positions, m.triangles);
   for (const std::vector<int>& ids : {std::vector<int>(), pieces}) {
     const GaussThinning thinning(m.positions, m.triangles, 3.0 * edge, ids);
+    // Each pair once (up to two threads) and each face's own list (more).
     for (const double cone : {0.1, 0.44})
-      EXPECT_TRUE(thinning.targets(normals, cone, 2) == targets_by_definition(thinning, normals, cone));
+      for (const int threads : {1, 2, 4})
+        EXPECT_TRUE(thinning.targets(normals, cone, threads) == targets_by_definition(thinning, normals, cone));
   }
 }
 

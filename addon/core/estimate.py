@@ -33,11 +33,11 @@ LARGE_MESH_FACES = 100_000
 
 # bench/scans.py: begin
 # Wall seconds = a * (faces / 1e5)^b; measured runs at 100k faces and more
-# over the fit from low to high (bench/scans.py, 2026-12-05 12:45 UTC,
+# over the fit from low to high (bench/scans.py, 2026-12-05 13:22 UTC,
 # Intel(R) Xeon(R) Processor, 2 cores).
 MEASURED = {
-    "sheet": {"a": 8.54, "b": 0.956, "low": 0.509, "high": 2.98},
-    "object": {"a": 83.6, "b": 0.984, "low": 0.91, "high": 1.15},
+    "sheet": {"a": 8.59, "b": 0.961, "low": 0.505, "high": 2.96},
+    "object": {"a": 83.4, "b": 0.983, "low": 0.908, "high": 1.16},
 }
 # bench/scans.py: end
 

@@ -273,7 +273,10 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
     const std::vector<int> column_of = active_columns(current_, stars, normals, defects);
     const Eigen::Index columns = *std::max_element(column_of.begin(), column_of.end()) + 1;
     if (columns <= 0) break;
-    const SparseMatrix jac = weights.asDiagonal() * jacobian(current_, stars, normals, column_of, columns);
+    // The rows weighted in place (each entry times its row's weight, as
+    // weights.asDiagonal() * J computes it, without a second matrix).
+    SparseMatrix jac = jacobian(current_, stars, normals, column_of, columns);
+    for (Eigen::Index k = 0; k < jac.nonZeros(); ++k) jac.valuePtr()[k] *= weights[jac.innerIndexPtr()[k]];
     const Eigen::VectorXd rw = weights.cwiseProduct(r);
     SparseMatrix normal_matrix = SparseMatrix(jac.transpose() * jac);
     Eigen::VectorXd gradient = jac.transpose() * rw;

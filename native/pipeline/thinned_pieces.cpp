@@ -153,6 +153,7 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   const StepGuard piece_guard(input, CreaseGuard(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth));
   piece_guard.heal(out.positions);
   thin(input, deformation, piece_guard, out.pieces, kPieceThinningIterations, out.positions, progress.sub(0.05, 0.5));
+  deformation.release();  // its factor is of no use to the ruled polish, which needs the memory
 
   const std::vector<bool> border = patch_border_vertices(input.triangles, out.pieces, input.positions.rows());
   std::vector<bool> inside = input.measured.interior;

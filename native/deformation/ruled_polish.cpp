@@ -294,8 +294,7 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
       }
     }
     // The damping goes onto the diagonal in place (each attempt sets it from
-    // the undamped values): a copy of the matrix per attempt was a tenth of
-    // the polish's assembly.
+    // the undamped values), not onto a copy of the matrix per attempt.
     std::vector<double*> diagonal(static_cast<size_t>(normal_matrix.rows()));
     for (Eigen::Index c = 0; c < normal_matrix.rows(); ++c) normal_matrix.coeffRef(c, c);
     normal_matrix.makeCompressed();

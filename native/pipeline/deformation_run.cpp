@@ -80,6 +80,7 @@ DeformationRun::DeformationRun(const PatchRun& run, TargetField targets, Pipelin
 }
 
 void DeformationRun::advance(Positions& current, Normals& normals) {
+  if (!step_) throw EngineError(Status::internal_error, "deformation run: a step after release");
   if (!acceleration_) {
     stats_.fold_retries += step_->advance(current, normals);
     return;
@@ -170,6 +171,7 @@ void DeformationRun::iterate(Judge& judge, Choice& choice, const Progress& progr
 }
 
 void DeformationRun::step_from(Positions& start) {
+  if (!step_) throw EngineError(Status::internal_error, "deformation run: a step after release");
   Normals start_normals = face_normals(start, run_.input.triangles);
   targets_.refit(start, start_normals);
   deformation_.set_targets(targets_.targets());

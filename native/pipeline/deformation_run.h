@@ -57,6 +57,7 @@ class DeformationRun {
 
   // Frees the system and the fold-safe step once no step will follow
   // (NormalGuidedDeformation::release); the chosen curves and targets stay.
+  // A step after it (iterate, step_from) throws EngineError(internal_error).
   void release() {
     step_.reset();
     deformation_.release();

@@ -122,7 +122,6 @@ def write_estimate(fits, info):
     begin, end = "# bench/scans.py: begin\n", "# bench/scans.py: end\n"
     head, rest = text.split(begin)
     _, tail = rest.split(end)
-    rounded = lambda x: float("%.3g" % x)  # noqa: E731
     block = [
         "# Wall seconds = a * (faces / 1e5)^b; measured runs at 100k faces and more",
         "# over the fit from low to high (bench/scans.py, %s," % info["date"],
@@ -130,7 +129,7 @@ def write_estimate(fits, info):
         "MEASURED = {",
     ]
     for kind, fit in fits.items():
-        block.append('    "%s": {%s},' % (kind, ", ".join('"%s": %r' % (k, rounded(v)) for k, v in fit.items())))
+        block.append('    "%s": {%s},' % (kind, ", ".join('"%s": %r' % (k, float("%.3g" % v)) for k, v in fit.items())))
     block.append("}")
     path.write_text(head + begin + "\n".join(block) + "\n" + end + tail)
 

@@ -116,21 +116,21 @@ Positions projection_start(const PatchRun& run) {
 }
 
 // The input with its noise smoothed (jet_denoise, within the limit) and,
-// from a deformed result, that smoothing after one deformation step toward
-// targets refit on it.
+// given the deformation (a deformed result's), that smoothing after one of
+// its steps toward targets refit on it.
 struct SmoothedInput {
   Positions smoothed;
   std::optional<Positions> stepped;
 };
 
-SmoothedInput smoothed_input(const PatchRun& run, DeformationRun& deformation, bool deformed) {
+SmoothedInput smoothed_input(const PatchRun& run, DeformationRun* deformation) {
   const MeasuredInput& input = run.input;
   SmoothedInput out;
   out.smoothed = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned);
   clamp_moves(out.smoothed, input.positions, input.limit);
-  if (deformed) {
+  if (deformation) {
     out.stepped = out.smoothed;
-    deformation.step_from(*out.stepped);
+    deformation->step_from(*out.stepped);
   }
   return out;
 }
@@ -175,7 +175,7 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
   // before any polish runs; the step is wasted only where the smoothing
   // turns out to move the input too little to compete (same_start).
   std::optional<SmoothedInput> smoothed;
-  if (input.options.polish_smoothed_input && deformed) smoothed = smoothed_input(run, deformation, deformed);
+  if (input.options.polish_smoothed_input && deformed) smoothed = smoothed_input(run, &deformation);
   deformation.release();
   std::vector<Start> starts;
   starts.push_back({input.positions, ResultOrigin::input_polish, 0.0, {}});
@@ -203,8 +203,7 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
   if (choice.improved) contest.add(choice, false);
   // Nothing to compete with when even the polish of the input found nothing better.
   if (input.options.polish_smoothed_input && choice.improved)
-    add_smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(run, deformation, false), contest,
-                        starts);
+    add_smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(run, nullptr), contest, starts);
   // A start as far as the winner so far, or a polish that went as far at any
   // step (PolishResult::largest_move), cannot win.
   const auto judge_candidate = [&](const Start& start) {

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <utility>
@@ -221,7 +222,157 @@ int merge_same_cones(std::vector<int>& ids, int count, const std::vector<MeshEdg
   return count;
 }
 
+// plane_parting's search: directions of the planes over a hemisphere, and
+// offsets along each.
+constexpr int kPartingDirections = 128;
+constexpr int kPartingOffsets = 64;
+
+// Unit directions spread evenly over a hemisphere (a Fibonacci lattice): a
+// plane and its opposite are one.
+std::vector<Eigen::Vector3d> hemisphere_directions(int count) {
+  std::vector<Eigen::Vector3d> directions;
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < count; ++k) {
+    const double z = 1.0 - (k + 0.5) / count;  // (0, 1)
+    const double r = std::sqrt(1.0 - z * z);
+    directions.emplace_back(r * std::cos(golden * k), r * std::sin(golden * k), z);
+  }
+  return directions;
+}
+
+// The fine search about the best lattice direction: directions within half
+// the lattice's spacing on a grid of (2 kFineSteps + 1)^2, each at
+// kFineOffsets offsets.
+constexpr int kFineSteps = 4;
+constexpr int kFineOffsets = 256;
+
+// A plane across a piece: the faces whose centroids fall in `slab` or a
+// later one of `slabs` even slabs of [lo, hi] along `direction` lie beyond
+// it; `residual` is the summed fit_cone residual of the two sides.
+struct Cut {
+  double residual = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+  double lo = 0.0, hi = 0.0;
+  int slabs = 1, slab = 0;
+
+  int slab_of(const Eigen::Vector3d& centroid) const {
+    return std::min(slabs - 1, static_cast<int>((direction.dot(centroid) - lo) / (hi - lo) * slabs));
+  }
+  bool side(const Eigen::Vector3d& centroid) const { return slab_of(centroid) >= slab; }
+};
+
+// The lower residual; the first on a tie (deterministic).
+Cut better(const Cut& a, const Cut& b) { return b.residual < a.residual ? b : a; }
+
+// The best of the `slabs` - 1 planes across the faces along `direction`
+// leaving both sides min_faces faces (residual infinite when none does).
+Cut best_cut_along(const Eigen::Vector3d& direction, int slabs, const std::vector<Eigen::Vector3d>& centroids,
+                   const std::vector<int>& faces, const Normals& normals, const Eigen::VectorXd& areas, int min_faces) {
+  Cut cut;
+  cut.direction = direction;
+  cut.slabs = slabs;
+  cut.lo = std::numeric_limits<double>::infinity();
+  cut.hi = -cut.lo;
+  for (const Eigen::Vector3d& c : centroids) {
+    cut.lo = std::min(cut.lo, direction.dot(c));
+    cut.hi = std::max(cut.hi, direction.dot(c));
+  }
+  if (!(cut.hi > cut.lo)) return cut;
+  // The faces' moments per slab, then summed from either end.
+  const size_t count = static_cast<size_t>(slabs);
+  std::vector<NormalMoments> slab(count), below(count + 1), above(count + 1);
+  std::vector<int> in_slab(count, 0), count_below(count + 1, 0);
+  for (size_t k = 0; k < centroids.size(); ++k) {
+    const size_t s = static_cast<size_t>(cut.slab_of(centroids[k]));
+    slab[s].add(normals.row(faces[k]).transpose(), areas[faces[k]]);
+    ++in_slab[s];
+  }
+  for (size_t s = 0; s < count; ++s) {
+    below[s + 1] = below[s];
+    below[s + 1] += slab[s];
+    count_below[s + 1] = count_below[s] + in_slab[s];
+  }
+  for (size_t s = count; s-- > 0;) {
+    above[s] = above[s + 1];
+    above[s] += slab[s];
+  }
+  const int n = static_cast<int>(centroids.size());
+  for (size_t s = 1; s < count; ++s) {
+    if (count_below[s] < min_faces || n - count_below[s] < min_faces) continue;
+    const double residual = fit_cone(below[s]).residual + fit_cone(above[s]).residual;
+    if (residual < cut.residual) {
+      cut.residual = residual;
+      cut.slab = static_cast<int>(s);
+    }
+  }
+  return cut;
+}
+
+// Step 5: the worst-fitting piece above kCreasePieceFit is parted
+// (plane_parting) when both parts fit their cones better than it fits its
+// own, until every piece fits, no parting helps or kMostPartings were made.
+// Returns the count of pieces.
+int part_misfits(std::vector<int>& ids, int count, const Positions& positions, const Triangles& triangles,
+                 const Normals& normals, const Eigen::VectorXd& areas, const Misfits& misfits, int min_faces) {
+  std::vector<bool> tried(static_cast<size_t>(count), false);
+  for (int partings = 0; partings < kMostPartings;) {
+    const std::vector<std::vector<int>> faces = faces_by_piece(ids, count);
+    int worst = -1;
+    double worst_fit = kCreasePieceFit;
+    for (int p = 0; p < count; ++p) {
+      if (tried[static_cast<size_t>(p)]) continue;
+      const double fit = misfits.of(faces[static_cast<size_t>(p)]).fit;
+      if (fit > worst_fit) worst = p, worst_fit = fit;
+    }
+    if (worst < 0) break;
+    tried[static_cast<size_t>(worst)] = true;
+    const std::vector<int>& members = faces[static_cast<size_t>(worst)];
+    const std::vector<bool> beyond = plane_parting(members, positions, triangles, normals, areas, min_faces);
+    if (beyond.empty()) continue;
+    std::vector<int> near, far;
+    for (size_t k = 0; k < members.size(); ++k) (beyond[k] ? far : near).push_back(members[k]);
+    if (!(misfits.of(near).fit < worst_fit && misfits.of(far).fit < worst_fit)) continue;
+    for (int f : far) ids[static_cast<size_t>(f)] = count;
+    ++count;
+    tried[static_cast<size_t>(worst)] = false;  // each part may be parted again
+    tried.push_back(false);
+    ++partings;
+  }
+  return count;
+}
+
 }  // namespace
+
+std::vector<bool> plane_parting(const std::vector<int>& faces, const Positions& positions, const Triangles& triangles,
+                                const Normals& normals, const Eigen::VectorXd& areas, int min_faces) {
+  const size_t n = faces.size();
+  std::vector<Eigen::Vector3d> centroids(n);
+  for (size_t k = 0; k < n; ++k) {
+    const int f = faces[k];
+    centroids[k] =
+        (positions.row(triangles(f, 0)) + positions.row(triangles(f, 1)) + positions.row(triangles(f, 2))).transpose() /
+        3.0;
+  }
+  Cut best;
+  for (const Eigen::Vector3d& d : hemisphere_directions(kPartingDirections))
+    best = better(best, best_cut_along(d, kPartingOffsets, centroids, faces, normals, areas, min_faces));
+  if (!std::isfinite(best.residual)) return {};
+  // Then finer, about the best direction: the lattice's directions are
+  // about `spacing` apart (its cells' area, 2 pi / count, square-rooted), and
+  // at that a plane is a face off on a mitre's sides.
+  const double spacing = std::sqrt(2.0 * M_PI / kPartingDirections);
+  const Eigen::Vector3d coarse = best.direction;
+  const Eigen::Vector3d u = coarse.unitOrthogonal(), v = coarse.cross(u);
+  for (int i = -kFineSteps; i <= kFineSteps; ++i)
+    for (int j = -kFineSteps; j <= kFineSteps; ++j) {
+      const double step = spacing / (2 * kFineSteps);
+      const Eigen::Vector3d d = (coarse + i * step * u + j * step * v).normalized();
+      best = better(best, best_cut_along(d, kFineOffsets, centroids, faces, normals, areas, min_faces));
+    }
+  std::vector<bool> beyond(n);
+  for (size_t k = 0; k < n; ++k) beyond[k] = best.side(centroids[k]);
+  return beyond;
+}
 
 CreasePieces crease_pieces(const Positions& positions, const Triangles& triangles, const Normals& normals,
                            const Eigen::VectorXd& areas, const VertexFaces& connectivity, int threads) {
@@ -239,6 +390,10 @@ CreasePieces crease_pieces(const Positions& positions, const Triangles& triangle
   settle_borders(out.ids, count, normals, areas, edges);
   count = merge_same_cones(out.ids, renumber(out.ids), edges, areas, misfits);
   settle_borders(out.ids, count, normals, areas, edges);
+  if (count >= 2) {
+    count = part_misfits(out.ids, count, positions, triangles, normals, areas, misfits, min_faces);
+    settle_borders(out.ids, count, normals, areas, edges);
+  }
   // Moved faces may have left a piece in parts: each part its own, small
   // ones joined to a neighbour.
   const std::vector<int> settled = out.ids;

@@ -15,7 +15,11 @@
 //   3. neighbours whose union fits one cone (its RMS angle to the cone at
 //      most kSameCone times their own, and within the noise) become one
 //      piece (a false line across a cylinder);
-//   4. step 2 again.
+//   4. step 2 again;
+//   5. where there are two pieces or more, a piece that fits no cone
+//      (above kCreasePieceFit: a line was missed, two gores of an elbow or a
+//      branch and its pipe joined through its gap) is parted by a plane
+//      (plane_parting) when both parts fit better, and step 2 runs again.
 // Each piece's fit is the RMS angle of its normals to its cone over the RMS
 // that the noise alone would give them off the cone (the noise of
 // crease_strength.h carried through each face's shape): about 1 or less for
@@ -59,12 +63,33 @@ struct CreasePieces {
   std::vector<bool> cut;  // per mesh_edges edge: on a crease line
 };
 
+// A piece is parted by step 5 at most this many times (a six-gore elbow
+// whose every mitre line was missed: five).
+inline constexpr int kMostPartings = 8;
+
+// Step 5's parting of one piece: the plane that leaves the two sets of faces
+// fitting two cones best (the least summed residual of fit_cone, cone_fit.h).
+// Mitres, branch seams and reducer rings are plane curves (crease_lines.h,
+// step 5), so one plane parts two such pieces; the faces along it are then
+// settled by their cones (step 2). Planes are tried across 128 directions
+// spread over a hemisphere, each at 64 evenly spaced offsets of the face
+// centroids' extent along it; cones come from additive moments, so a
+// direction costs one pass over the faces.
+//   faces: the piece's face indices into `triangles`; positions, triangles,
+//   normals, areas: the mesh, its face_normals and face_areas; min_faces:
+//   the least number of faces on either side (>= 1).
+// Returns per entry of `faces` whether it lies beyond the plane; empty when
+// no plane leaves both sides min_faces faces. Deterministic.
+std::vector<bool> plane_parting(const std::vector<int>& faces, const Positions& positions, const Triangles& triangles,
+                                const Normals& normals, const Eigen::VectorXd& areas, int min_faces);
+
 // The crease pieces of a mesh.
 //   positions, triangles: a mesh that passed validate_mesh; normals, areas:
 //   its face_normals and face_areas; connectivity: its vertex_faces;
 //   threads: as parallel_for's (the result does not depend on it).
 // No failure mode: a mesh without crease lines is one piece. Deterministic.
-// O(faces x 2-ring) for the lines, O(faces x pieces^2) for the merges.
+// O(faces x 2-ring) for the lines, O(faces x pieces^2) for the merges,
+// O(faces x 128) per parting.
 CreasePieces crease_pieces(const Positions& positions, const Triangles& triangles, const Normals& normals,
                            const Eigen::VectorXd& areas, const VertexFaces& connectivity, int threads = 0);
 

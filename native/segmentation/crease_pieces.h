@@ -73,8 +73,9 @@ inline constexpr int kMostPartings = 8;
 // step 5), so one plane parts two such pieces; the faces along it are then
 // settled by their cones (step 2). Planes are tried across 128 directions
 // spread over a hemisphere, each at 64 evenly spaced offsets of the face
-// centroids' extent along it; cones come from additive moments, so a
-// direction costs one pass over the faces.
+// centroids' extent along it, then across 81 directions within the
+// lattice's spacing of the best, at 256 offsets; cones come from additive
+// moments, so a direction costs one pass over the faces.
 //   faces: the piece's face indices into `triangles`; positions, triangles,
 //   normals, areas: the mesh, its face_normals and face_areas; min_faces:
 //   the least number of faces on either side (>= 1).
@@ -89,7 +90,7 @@ std::vector<bool> plane_parting(const std::vector<int>& faces, const Positions& 
 //   threads: as parallel_for's (the result does not depend on it).
 // No failure mode: a mesh without crease lines is one piece. Deterministic.
 // O(faces x 2-ring) for the lines, O(faces x pieces^2) for the merges,
-// O(faces x 128) per parting.
+// O(faces x 209) per parting.
 CreasePieces crease_pieces(const Positions& positions, const Triangles& triangles, const Normals& normals,
                            const Eigen::VectorXd& areas, const VertexFaces& connectivity, int threads = 0);
 

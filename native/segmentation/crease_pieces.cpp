@@ -314,27 +314,33 @@ Cut best_cut_along(const Eigen::Vector3d& direction, int slabs, const std::vecto
 // Returns the count of pieces.
 int part_misfits(std::vector<int>& ids, int count, const Positions& positions, const Triangles& triangles,
                  const Normals& normals, const Eigen::VectorXd& areas, const Misfits& misfits, int min_faces) {
+  // Each piece's faces (ascending, as faces_by_piece lists them) and fit,
+  // kept up to date across partings rather than recomputed for every piece.
+  std::vector<std::vector<int>> faces = faces_by_piece(ids, count);
+  std::vector<double> fit;
+  for (const auto& members : faces) fit.push_back(misfits.of(members).fit);
   std::vector<bool> tried(static_cast<size_t>(count), false);
   for (int partings = 0; partings < kMostPartings;) {
-    const std::vector<std::vector<int>> faces = faces_by_piece(ids, count);
     int worst = -1;
-    double worst_fit = kCreasePieceFit;
-    for (int p = 0; p < count; ++p) {
-      if (tried[static_cast<size_t>(p)]) continue;
-      const double fit = misfits.of(faces[static_cast<size_t>(p)]).fit;
-      if (fit > worst_fit) worst = p, worst_fit = fit;
-    }
+    for (size_t p = 0; p < faces.size(); ++p)
+      if (!tried[p] && fit[p] > (worst < 0 ? kCreasePieceFit : fit[static_cast<size_t>(worst)]))
+        worst = static_cast<int>(p);
     if (worst < 0) break;
-    tried[static_cast<size_t>(worst)] = true;
-    const std::vector<int>& members = faces[static_cast<size_t>(worst)];
-    const std::vector<bool> beyond = plane_parting(members, positions, triangles, normals, areas, min_faces);
+    const size_t w = static_cast<size_t>(worst);
+    tried[w] = true;
+    const std::vector<bool> beyond = plane_parting(faces[w], positions, triangles, normals, areas, min_faces);
     if (beyond.empty()) continue;
     std::vector<int> near, far;
-    for (size_t k = 0; k < members.size(); ++k) (beyond[k] ? far : near).push_back(members[k]);
-    if (!(misfits.of(near).fit < worst_fit && misfits.of(far).fit < worst_fit)) continue;
+    for (size_t k = 0; k < faces[w].size(); ++k) (beyond[k] ? far : near).push_back(faces[w][k]);
+    const double near_fit = misfits.of(near).fit, far_fit = misfits.of(far).fit;
+    if (!(near_fit < fit[w] && far_fit < fit[w])) continue;
     for (int f : far) ids[static_cast<size_t>(f)] = count;
     ++count;
-    tried[static_cast<size_t>(worst)] = false;  // each part may be parted again
+    faces[w] = std::move(near);
+    fit[w] = near_fit;
+    tried[w] = false;  // each part may be parted again
+    faces.push_back(std::move(far));
+    fit.push_back(far_fit);
     tried.push_back(false);
     ++partings;
   }

@@ -27,6 +27,13 @@ inline constexpr double kRuledSpread = 0.02;
 // A zero-area triangle gets the zero vector.
 Normals face_normals(const Positions& positions, const Triangles& triangles);
 
+// Centroid of triangle f (the mean of its corners), caller's units.
+inline Eigen::Vector3d face_centroid(const Positions& positions, const Triangles& triangles, Eigen::Index f) {
+  return (positions.row(triangles(f, 0)) + positions.row(triangles(f, 1)) + positions.row(triangles(f, 2)))
+             .transpose() /
+         3.0;
+}
+
 // Area of each triangle, in the caller's units squared.
 Eigen::VectorXd face_areas(const Positions& positions, const Triangles& triangles);
 
@@ -94,7 +101,7 @@ class CreaseGuard {
 
  private:
   struct Edge {
-    int f, g;  // 16 bytes an edge: a guard of a 1M-face mesh holds 1.5M of them
+    int f, g;             // 16 bytes an edge: a guard of a 1M-face mesh holds 1.5M of them
     double limit_cosine;  // cosine of the reference angle plus the growth (edges where that is < pi)
   };
   std::vector<Edge> edges_;

@@ -1,5 +1,6 @@
 #include "core/orientation.h"
 
+#include "core/measures.h"
 #include "core/union_find.h"
 
 #include <algorithm>
@@ -100,10 +101,6 @@ std::vector<int> component(const Dual& dual, int root, std::vector<char>& parity
   return members;
 }
 
-Eigen::Vector3d centroid(const Positions& p, const Triangles& t, int f) {
-  return (p.row(t(f, 0)) + p.row(t(f, 1)) + p.row(t(f, 2))).transpose() / 3.0;
-}
-
 // Scratch of the non-orientable components, sized for the whole mesh once
 // and reset on each component's own faces, so that many small components
 // cost their own size only.
@@ -150,12 +147,12 @@ void shortest_path_parity(const Positions& positions, const Triangles& triangles
     if (d > work.distance[static_cast<size_t>(f)]) continue;
     const int in = work.via[static_cast<size_t>(f)];
     parity[static_cast<size_t>(f)] = in < 0 ? 0 : parity_across(dual, parity, in);
-    const Eigen::Vector3d c = centroid(positions, triangles, f);
+    const Eigen::Vector3d c = face_centroid(positions, triangles, f);
     for (int k = 0; k < 3; ++k) {
       const int h = 3 * f + k, twin = dual.twin[static_cast<size_t>(h)];
       if (twin < 0) continue;
       const int g = twin / 3;
-      const double through = d + (centroid(positions, triangles, g) - c).norm();
+      const double through = d + (face_centroid(positions, triangles, g) - c).norm();
       if (through < work.distance[static_cast<size_t>(g)]) {
         work.distance[static_cast<size_t>(g)] = through;
         work.via[static_cast<size_t>(g)] = h;

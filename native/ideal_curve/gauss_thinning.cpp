@@ -1,6 +1,7 @@
 #include "ideal_curve/gauss_thinning.h"
 
 #include "core/concurrent_jobs.h"
+#include "core/measures.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -33,9 +34,7 @@ GaussThinning::GaussThinning(const Positions& positions, const Triangles& triang
   if (!pieces.empty() && static_cast<Eigen::Index>(pieces.size()) != m)
     throw EngineError(Status::invalid_argument, "gauss thinning: one piece id per face");
   Positions centroids(m, 3);
-  for (Eigen::Index f = 0; f < m; ++f)
-    centroids.row(f) =
-        (positions.row(triangles(f, 0)) + positions.row(triangles(f, 1)) + positions.row(triangles(f, 2))) / 3.0;
+  for (Eigen::Index f = 0; f < m; ++f) centroids.row(f) = face_centroid(positions, triangles, f).transpose();
   // A grid of cells of side `radius`: each face's neighbours are in the 27
   // cells around its own. Cells are keyed and sorted, not hashed, so the
   // lists come out the same on every run.

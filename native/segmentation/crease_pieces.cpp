@@ -1,6 +1,7 @@
 #include "segmentation/crease_pieces.h"
 
 #include "core/cone_fit.h"
+#include "core/measures.h"
 #include "core/union_find.h"
 #include "segmentation/crease_lines.h"
 #include "segmentation/crease_strength.h"
@@ -274,8 +275,9 @@ Cut best_cut_along(const Eigen::Vector3d& direction, int slabs, const std::vecto
   cut.lo = std::numeric_limits<double>::infinity();
   cut.hi = -cut.lo;
   for (const Eigen::Vector3d& c : centroids) {
-    cut.lo = std::min(cut.lo, direction.dot(c));
-    cut.hi = std::max(cut.hi, direction.dot(c));
+    const double height = direction.dot(c);
+    cut.lo = std::min(cut.lo, height);
+    cut.hi = std::max(cut.hi, height);
   }
   if (!(cut.hi > cut.lo)) return cut;
   // The faces' moments per slab, then summed from either end.
@@ -353,12 +355,7 @@ std::vector<bool> plane_parting(const std::vector<int>& faces, const Positions& 
                                 const Normals& normals, const Eigen::VectorXd& areas, int min_faces) {
   const size_t n = faces.size();
   std::vector<Eigen::Vector3d> centroids(n);
-  for (size_t k = 0; k < n; ++k) {
-    const int f = faces[k];
-    centroids[k] =
-        (positions.row(triangles(f, 0)) + positions.row(triangles(f, 1)) + positions.row(triangles(f, 2))).transpose() /
-        3.0;
-  }
+  for (size_t k = 0; k < n; ++k) centroids[k] = face_centroid(positions, triangles, faces[k]);
   Cut best;
   for (const Eigen::Vector3d& d : hemisphere_directions(kPartingDirections))
     best = better(best, best_cut_along(d, kPartingOffsets, centroids, faces, normals, areas, min_faces));

@@ -84,12 +84,9 @@ FaceGeometry face_geometry(const Positions& positions, const Triangles& triangle
   geometry.area.resize(face_count);
   geometry.centroid.resize(face_count);
   for (Eigen::Index f = 0; f < face_count; ++f) {
-    const Eigen::Vector3d p0 = positions.row(triangles(f, 0)).transpose();
-    const Eigen::Vector3d p1 = positions.row(triangles(f, 1)).transpose();
-    const Eigen::Vector3d p2 = positions.row(triangles(f, 2)).transpose();
     geometry.normal[f] = normals.row(f).transpose();
     geometry.area[f] = areas[f];
-    geometry.centroid[f] = (p0 + p1 + p2) / 3.0;
+    geometry.centroid[f] = face_centroid(positions, triangles, f);
     geometry.total_area += geometry.area[f];
   }
   return geometry;

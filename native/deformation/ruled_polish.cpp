@@ -281,6 +281,14 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
     SparseMatrix normal_matrix = SparseMatrix(jac.transpose() * jac);
     Eigen::VectorXd gradient = jac.transpose() * rw;
     const double scale = normal_matrix.diagonal().mean();
+    // The fit and the damping go onto the diagonal in place (each attempt
+    // sets the damping from the undamped values), not onto a copy of the
+    // matrix per attempt; a column no residual reaches gets its entry first.
+    std::vector<double*> diagonal(static_cast<size_t>(normal_matrix.rows()));
+    for (Eigen::Index c = 0; c < normal_matrix.rows(); ++c) normal_matrix.coeffRef(c, c);
+    normal_matrix.makeCompressed();
+    for (Eigen::Index c = 0; c < normal_matrix.rows(); ++c)
+      diagonal[static_cast<size_t>(c)] = &normal_matrix.coeffRef(c, c);
     // The fit rows: identity blocks times wF / AE (their Jacobian is diagonal).
     if (fit_scale_ > 0.0) {
       const double f2 = fit_scale_ * fit_scale_;
@@ -288,18 +296,11 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
         const int c = column_of[static_cast<size_t>(v)];
         if (c < 0) continue;
         for (int k = 0; k < 3; ++k) {
-          normal_matrix.coeffRef(3 * c + k, 3 * c + k) += f2;
+          *diagonal[static_cast<size_t>(3 * c + k)] += f2;
           gradient[3 * c + k] += f2 * (current_(v, k) - reference_(v, k));
         }
       }
     }
-    // The damping goes onto the diagonal in place (each attempt sets it from
-    // the undamped values), not onto a copy of the matrix per attempt.
-    std::vector<double*> diagonal(static_cast<size_t>(normal_matrix.rows()));
-    for (Eigen::Index c = 0; c < normal_matrix.rows(); ++c) normal_matrix.coeffRef(c, c);
-    normal_matrix.makeCompressed();
-    for (Eigen::Index c = 0; c < normal_matrix.rows(); ++c)
-      diagonal[static_cast<size_t>(c)] = &normal_matrix.coeffRef(c, c);
     std::vector<double> undamped(diagonal.size());
     for (size_t c = 0; c < diagonal.size(); ++c) undamped[c] = *diagonal[c];
     const double energy = weighted(r, weights) + fit_energy(current_);

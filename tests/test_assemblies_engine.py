@@ -31,21 +31,42 @@ def run(tool, tmp_path, positions, triangles, where):
     return out, stats
 
 
+@pytest.fixture(scope="module")
+def held_out_runs(tool_path, tmp_path_factory):
+    """part -> [(where, found the natural pieces, H/H0)] of the tool on SEEDS."""
+    tmp_path = tmp_path_factory.mktemp("assemblies")
+    runs = {}
+    for part in PARTS:
+        for seed in SEEDS:
+            m = assemblies.random_case(part, seed, faces=FACES)
+            where = f"{part} seed {seed} ({m.triangulation}, {len(m.triangles)} faces, noise {m.noise:.3f} AE)"
+            out, stats = run(tool_path, tmp_path, m.positions, m.triangles, where)
+            h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
+            ratio = sampled_hausdorff(out, m.triangles, m.clean, m.triangles) / h0
+            runs.setdefault(part, []).append((where, stats["patches"] == m.natural_pieces, ratio))
+    return runs
+
+
 @pytest.mark.parametrize("part", PARTS)
-def test_assemblies_come_back_in_their_natural_pieces_near_their_twin(tool_path, tmp_path, part):
-    found = []
-    for seed in SEEDS:
-        m = assemblies.random_case(part, seed, faces=FACES)
-        where = "%s seed %d (%s, %d faces, noise %.3f AE)" % (part, seed, m.triangulation, len(m.triangles), m.noise)
-        out, stats = run(tool_path, tmp_path, m.positions, m.triangles, where)
-        found.append(stats["patches"] == m.natural_pieces)
-        h0 = sampled_hausdorff(m.positions, m.triangles, m.clean, m.triangles)
-        ratio = sampled_hausdorff(out, m.triangles, m.clean, m.triangles) / h0
+def test_assemblies_come_back_in_their_natural_pieces_near_their_twin(held_out_runs, part):
+    runs = held_out_runs[part]
+    for where, _, ratio in runs:
         # The run on crease pieces moves a vertex by at most twice the noise (pipeline/plan.h,
         # kCreaseMoveNoise); where the pieces are not found, the segmented run may move more
         # (bench/assemblies.py on seeds 100-119: up to 8 times the input's distance).
         assert ratio <= 3.0, (where, ratio)
+    found = [natural for _, natural, _ in runs]
     assert sum(found) >= len(found) - 1, (part, found)
+
+
+def test_assemblies_come_back_nearer_their_twin_than_the_scan(held_out_runs):
+    # On pieces too, least motion's projected start (the input smoothed piece by piece, then
+    # projected onto the developable meshes) keeps the vertices whose angle sums hardly depend on
+    # their height on the surface, where the polishes push them out: over these 24 runs the mean
+    # log H/H0 is -0.014 with it, +0.028 without (bench/assemblies.py, 640 runs: 611 -> 622 within
+    # 1.5 times the noise; docs/method.md, "Crease pieces").
+    ratios = [ratio for runs in held_out_runs.values() for _, _, ratio in runs]
+    assert np.mean(np.log(ratios)) < 0.0, ratios
 
 
 # Y-branches at 4-5 % noise, where the crease lines miss one of the three seams and two of the

@@ -24,11 +24,27 @@ constexpr size_t kMinRing = 9;
 // (docs/method.md, "Smoothed input").
 constexpr double kWeightScale = 4.0;
 
-// Appends the vertices of `v`'s faces to `ring` (with repeats).
-void add_neighbours(const VertexFaces& connectivity, const Triangles& triangles, Eigen::Index v,
-                    std::vector<Eigen::Index>& ring) {
-  for (const int* f = connectivity.begin(v); f != connectivity.end(v); ++f)
+// Appends the vertices of `v`'s faces to `ring` (with repeats) and the faces
+// to `faces`; with groups, only the faces of `group`.
+void add_neighbours(const VertexFaces& connectivity, const Triangles& triangles, const std::vector<int>& groups,
+                    int group, Eigen::Index v, std::vector<Eigen::Index>& ring, std::vector<Eigen::Index>& faces) {
+  for (const int* f = connectivity.begin(v); f != connectivity.end(v); ++f) {
+    if (!groups.empty() && groups[static_cast<size_t>(*f)] != group) continue;
     for (int c = 0; c < 3; ++c) ring.push_back(triangles(*f, c));
+    faces.push_back(*f);
+  }
+}
+
+// The group of all of v's faces; -1 with faces of two groups (or none).
+int group_of(const VertexFaces& connectivity, const std::vector<int>& groups, Eigen::Index v) {
+  if (groups.empty()) return 0;
+  int group = -1;
+  for (const int* f = connectivity.begin(v); f != connectivity.end(v); ++f) {
+    const int g = groups[static_cast<size_t>(*f)];
+    if (group >= 0 && g != group) return -1;
+    group = g;
+  }
+  return group;
 }
 
 void sort_unique(std::vector<Eigen::Index>& items) {
@@ -42,19 +58,22 @@ Positions jet_denoise(const Positions& positions, const Triangles& triangles, co
                       const std::vector<bool>& pinned, const JetDenoiseOptions& options) {
   const Normals normals = face_normals(positions, triangles);
   const double min_cos = std::cos(options.feature_angle_deg * kPi / 180.0);
+  const std::vector<int>& groups = options.face_groups;
+  if (!groups.empty() && static_cast<Eigen::Index>(groups.size()) != triangles.rows())
+    throw EngineError(Status::internal_error, "jet_denoise: one group per face");
   Positions smoothed = positions;
   std::vector<Eigen::Index> one_ring, two_ring, faces;
   for (Eigen::Index v = 0; v < positions.rows(); ++v) {
     if (!pinned.empty() && pinned[static_cast<size_t>(v)]) continue;
+    const int group = group_of(connectivity, groups, v);
+    if (group < 0) continue;
     one_ring.clear();
-    add_neighbours(connectivity, triangles, v, one_ring);
+    faces.clear();
+    add_neighbours(connectivity, triangles, groups, group, v, one_ring, faces);
     sort_unique(one_ring);
     two_ring.clear();
     faces.clear();
-    for (Eigen::Index u : one_ring) {
-      add_neighbours(connectivity, triangles, u, two_ring);
-      for (const int* f = connectivity.begin(u); f != connectivity.end(u); ++f) faces.push_back(*f);
-    }
+    for (Eigen::Index u : one_ring) add_neighbours(connectivity, triangles, groups, group, u, two_ring, faces);
     sort_unique(two_ring);
     if (two_ring.size() < kMinRing) continue;
     sort_unique(faces);

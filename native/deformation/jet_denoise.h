@@ -26,16 +26,22 @@ struct JetDenoiseOptions {
   // too coarsely sampled for one quadric (a wave a few edges long), where
   // the fit would cut the feature instead of the noise.
   double feature_angle_deg = 30.0;
+  // Empty, or one group id per face (pieces meeting at creases): a vertex's
+  // rings then hold only the faces of its own group, so that the fit never
+  // reaches across a border, and a vertex on a border (faces of two groups)
+  // keeps its place.
+  std::vector<int> face_groups;
 };
 
 // Returns the smoothed positions.
 //   positions, triangles: a valid mesh (validate_mesh), `connectivity` its
 //   faces around each vertex; pinned: one entry per vertex (true: kept
 //   bit-identical) or empty.
-// Vertices with fewer than 9 two-ring neighbours (6 unknowns and some to
+// Vertices with fewer than 9 two-ring neighbours (within their group) (6 unknowns and some to
 // spare) and those at a feature (options) keep their place, as do pinned
 // ones. Moves are along the fitted plane's normal only, in the caller's
-// units. Never throws on a valid mesh; O(vertices x two-ring size).
+// units. O(vertices x two-ring size); throws EngineError(internal_error)
+// only when face_groups is neither empty nor one per face.
 Positions jet_denoise(const Positions& positions, const Triangles& triangles, const VertexFaces& connectivity,
                       const std::vector<bool>& pinned, const JetDenoiseOptions& options = {});
 

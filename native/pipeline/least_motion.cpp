@@ -100,12 +100,14 @@ class Contest {
   double shape_roughness_ = 0.0;
 };
 
-// The input smoothed without the feature guard, within the limit, its
-// turned sliver faces given back the input's corners.
+// The input smoothed without the feature guard (on pieces, each piece on its
+// own and their borders kept), within the limit, its turned sliver faces
+// given back the input's corners.
 Positions projection_start(const PatchRun& run) {
   const MeasuredInput& input = run.input;
   JetDenoiseOptions unguarded;
   unguarded.feature_angle_deg = kProjectionSmoothing;
+  if (run.piecewise) unguarded.face_groups = run.patch_ids;
   Positions start = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, unguarded);
   clamp_moves(start, input.positions, input.limit);
   // As many rounds as it takes: the input folds nothing.
@@ -153,10 +155,12 @@ void add_smoothed_starts(const PatchRun& run, SmoothedInput smoothed, Contest& c
     const double stepped_move = motion_of(*smoothed.stepped, input.positions).rms;
     starts.push_back({std::move(*smoothed.stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
   }
-  // The projection, on one patch (a segmented object's creases and corners
-  // are cut by that smoothing: it won on none of the shared meshes and cost
-  // human_woman 0.7 s) and where the smoothing moves the input enough.
-  if (!run.piecewise) {
+  // The projection, on sheets (one patch, or pieces cut at creases, smoothed
+  // each on its own; a segmented object's patch borders are not its
+  // creases, and its corners are cut by that smoothing: it won on none of
+  // the shared meshes and cost human_woman 0.7 s) and where the smoothing
+  // moves the input enough.
+  if (run.sheets) {
     Positions projected = projection_start(run);
     const double projected_move = motion_of(projected, input.positions).rms;
     if (projected_move >= kSameStartShare * contest.bound())

@@ -1,7 +1,8 @@
 // Least motion's candidates (docs/method.md, "Least motion"): the polish of
 // the input itself; of the input with its noise smoothed (jet_denoise.h);
 // of that after one deformation step toward targets refit on it; and on one
-// patch the input projected onto developable meshes from its smoothing
+// patch, or on pieces cut at creases, the input projected onto developable
+// meshes from its smoothing (piece by piece)
 // without the feature guard. Where the fitted curves flatten a wavy shape,
 // the deformation moves it far more than the noise, a polish of the input
 // only about the noise: with the deformation's own result they go to the

@@ -51,6 +51,9 @@ struct Patches {
   // The pieces the mesh's curvature cuts it into, each flat inside
   // (developable_pieces.h): nothing to deform.
   bool developable = false;
+  // Cut at the input's crease lines (crease_pieces.h): each piece one smooth
+  // sheet, its borders the part's mitres and joints.
+  bool creased = false;
 };
 
 // Patches with ids `ids` (0 .. count-1 per face), their curves and targets.

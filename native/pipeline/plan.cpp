@@ -129,7 +129,9 @@ std::optional<Patches> crease_pieces_of(const MeasuredInput& input, const Progre
     return std::nullopt;
   noise = std::max(pieces.cone_noise, kNoiseFloor * input.measured.stats.average_edge_length);
   excess = border_defect_excess(input, pieces.ids, noise);
-  return fitted_patches(std::move(pieces.ids), pieces.count, input.normals, input.areas, options);
+  Patches patches = fitted_patches(std::move(pieces.ids), pieces.count, input.normals, input.areas, options);
+  patches.creased = true;
+  return patches;
 }
 
 // What the rule reads of the input (result_figures: of a result).

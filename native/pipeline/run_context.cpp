@@ -67,6 +67,7 @@ PatchRun patch_run(const MeasuredInput& input, const Patches& patches) {
   run.patch_ids = patches.ids;
   run.patch_count = patches.count;
   run.piecewise = patches.count > 1 && input.options.mode == Mode::refit;
+  run.sheets = !run.piecewise || patches.creased;
   const std::vector<bool> border = patch_border_vertices(input.triangles, patches.ids, input.positions.rows());
   run.pinned = input.pinned;
   if (input.options.seams == Seams::pinned)

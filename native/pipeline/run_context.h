@@ -76,6 +76,9 @@ struct PatchRun {
   // IterateScore), and its targets are smoothed. The paper mode stays the
   // paper's: E^mean and raw targets whatever the patches.
   bool piecewise = false;
+  // Every patch one smooth sheet: one patch (or the paper mode's), or pieces
+  // cut at the input's creases (Patches::creased).
+  bool sheets = true;
   std::vector<bool> pinned;  // the input's, and with Seams::pinned the patch borders
   std::vector<bool> scored;  // the interior, or on pieces the vertices inside the patches
   std::ptrdiff_t scored_count = 0;

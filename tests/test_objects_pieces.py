@@ -77,9 +77,13 @@ def test_objects_come_back_as_ruled_pieces(case, lowest, meshes_dir):
 # before -> after): blobs 100-103 3.9 -> 66.7, 3.5 -> 60.5, 50.9 -> 90.8, 1.9 -> 53.5 %; limbs
 # 2.3 -> 54.8, 12.7 -> 74.8, 26.6 -> 85.4, 4.9 -> 67.7 % (before the object rule: 35-66 %, with up
 # to 26 % crumpled). Limb 101 keeps its segmented run's nearly flat polish, 3.6 % crumpled against
-# the input's 0.3 %: beyond issue 35's 3 points.
+# the input's 0.3 %: beyond issue 35's 3 points, on an Intel Xeon; on an AMD EPYC the same build
+# passes (libm picks other code paths per processor, and the thinned pieces amplify the last
+# bits), so the mark is not strict.
 OPEN_CASES = [
-    pytest.param(kind, seed, marks=pytest.mark.xfail(strict=True, reason="3.3 points more crumpled"))
+    pytest.param(
+        kind, seed, marks=pytest.mark.xfail(strict=False, reason="3.3 points more crumpled on some processors")
+    )
     if (kind, seed) == ("limb", 101)
     else (kind, seed)
     for kind in ("blob", "limb")

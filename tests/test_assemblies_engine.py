@@ -60,11 +60,11 @@ def test_assemblies_come_back_in_their_natural_pieces_near_their_twin(held_out_r
 
 
 def test_assemblies_come_back_nearer_their_twin_than_the_scan(held_out_runs):
-    # On pieces too, least motion's projected start (the input smoothed piece by piece, then
-    # projected onto the developable meshes) keeps the vertices whose angle sums hardly depend on
-    # their height on the surface, where the polishes push them out: over these 24 runs the mean
-    # log H/H0 is -0.014 with it, +0.028 without (bench/assemblies.py, 640 runs: 611 -> 622 within
-    # 1.5 times the noise; docs/method.md, "Crease pieces").
+    # On pieces too, least motion's projected and smoothed starts (the input smoothed piece by
+    # piece) keep the vertices whose angle sums hardly depend on their height on the surface, where
+    # the polishes push them out: over these 24 runs the mean log H/H0 is -0.042 with them, -0.014
+    # with the projected start alone, +0.028 with neither (bench/assemblies.py, 640 runs: 611 ->
+    # 622 -> 625 within 1.5 times the noise; docs/method.md, "Crease pieces").
     ratios = [ratio for runs in held_out_runs.values() for _, _, ratio in runs]
     assert np.mean(np.log(ratios)) < 0.0, ratios
 

@@ -128,7 +128,9 @@ struct SmoothedInput {
 SmoothedInput smoothed_input(const PatchRun& run, DeformationRun* deformation) {
   const MeasuredInput& input = run.input;
   SmoothedInput out;
-  out.smoothed = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned);
+  JetDenoiseOptions options;
+  if (run.piecewise && run.sheets) options.face_groups = run.patch_ids;  // crease pieces: each on its own
+  out.smoothed = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, options);
   clamp_moves(out.smoothed, input.positions, input.limit);
   if (deformation) {
     out.stepped = out.smoothed;

@@ -1,9 +1,9 @@
 // Least motion's candidates (docs/method.md, "Least motion"): the polish of
-// the input itself; of the input with its noise smoothed (jet_denoise.h);
-// of that after one deformation step toward targets refit on it; and on one
-// patch, or on pieces cut at creases, the input projected onto developable
-// meshes from its smoothing (piece by piece)
-// without the feature guard. Where the fitted curves flatten a wavy shape,
+// the input itself; of the input with its noise smoothed (jet_denoise.h; on
+// pieces cut at creases, piece by piece); of that after one deformation step
+// toward targets refit on it; and on one patch or such pieces the input
+// projected onto developable meshes from its smoothing without the feature
+// guard. Where the fitted curves flatten a wavy shape,
 // the deformation moves it far more than the noise, a polish of the input
 // only about the noise: with the deformation's own result they go to the
 // order (select in selection.h), which returns the one that moved the input

@@ -24,14 +24,15 @@ constexpr size_t kMinRing = 9;
 // (docs/method.md, "Smoothed input").
 constexpr double kWeightScale = 4.0;
 
-// Appends the vertices of `v`'s faces to `ring` (with repeats) and the faces
-// to `faces`; with groups, only the faces of `group`.
+// Appends the vertices of `v`'s faces to `ring` (with repeats) and, given
+// `faces`, the faces to it; with groups, only the faces of `group`.
 void add_neighbours(const VertexFaces& connectivity, const Triangles& triangles, const std::vector<int>& groups,
-                    int group, Eigen::Index v, std::vector<Eigen::Index>& ring, std::vector<Eigen::Index>& faces) {
+                    int group, Eigen::Index v, std::vector<Eigen::Index>& ring,
+                    std::vector<Eigen::Index>* faces = nullptr) {
   for (const int* f = connectivity.begin(v); f != connectivity.end(v); ++f) {
     if (!groups.empty() && groups[static_cast<size_t>(*f)] != group) continue;
     for (int c = 0; c < 3; ++c) ring.push_back(triangles(*f, c));
-    faces.push_back(*f);
+    if (faces) faces->push_back(*f);
   }
 }
 
@@ -68,12 +69,11 @@ Positions jet_denoise(const Positions& positions, const Triangles& triangles, co
     const int group = group_of(connectivity, groups, v);
     if (group < 0) continue;
     one_ring.clear();
-    faces.clear();
-    add_neighbours(connectivity, triangles, groups, group, v, one_ring, faces);
+    add_neighbours(connectivity, triangles, groups, group, v, one_ring);
     sort_unique(one_ring);
     two_ring.clear();
     faces.clear();
-    for (Eigen::Index u : one_ring) add_neighbours(connectivity, triangles, groups, group, u, two_ring, faces);
+    for (Eigen::Index u : one_ring) add_neighbours(connectivity, triangles, groups, group, u, two_ring, &faces);
     sort_unique(two_ring);
     if (two_ring.size() < kMinRing) continue;
     sort_unique(faces);

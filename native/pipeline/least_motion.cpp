@@ -100,14 +100,21 @@ class Contest {
   double shape_roughness_ = 0.0;
 };
 
-// The input smoothed without the feature guard (on pieces, each piece on its
-// own and their borders kept), within the limit, its turned sliver faces
-// given back the input's corners.
+// The groups the smoothed starts are smoothed in (JetDenoiseOptions::
+// face_groups): on pieces cut at creases each piece on its own, its borders
+// kept; else none (one patch, or a segmented object's patches, whose
+// borders are not creases).
+std::vector<int> smoothing_groups(const PatchRun& run) {
+  return run.piecewise && run.sheets ? run.patch_ids : std::vector<int>{};
+}
+
+// The input smoothed without the feature guard (smoothing_groups), within
+// the limit, its turned sliver faces given back the input's corners.
 Positions projection_start(const PatchRun& run) {
   const MeasuredInput& input = run.input;
   JetDenoiseOptions unguarded;
   unguarded.feature_angle_deg = kProjectionSmoothing;
-  if (run.piecewise) unguarded.face_groups = run.patch_ids;
+  unguarded.face_groups = smoothing_groups(run);
   Positions start = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, unguarded);
   clamp_moves(start, input.positions, input.limit);
   // As many rounds as it takes: the input folds nothing.
@@ -129,7 +136,7 @@ SmoothedInput smoothed_input(const PatchRun& run, DeformationRun* deformation) {
   const MeasuredInput& input = run.input;
   SmoothedInput out;
   JetDenoiseOptions options;
-  if (run.piecewise && run.sheets) options.face_groups = run.patch_ids;  // crease pieces: each on its own
+  options.face_groups = smoothing_groups(run);
   out.smoothed = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, options);
   clamp_moves(out.smoothed, input.positions, input.limit);
   if (deformation) {

@@ -16,11 +16,13 @@ struct Report {
   const char* stage;
 };
 
-// What the threads share: each job's reports not yet passed on, which jobs
-// have ended, and the stop every job hears at its next report.
+// What the threads share: the next job to take, each job's reports not yet
+// passed on, which jobs have ended, and the stop every job hears at its next
+// report.
 struct Relay {
   explicit Relay(size_t jobs) : reports(jobs), ended(jobs, false) {}
 
+  std::atomic<size_t> next_job{0};
   std::mutex mutex;
   std::condition_variable changed;
   std::vector<std::deque<Report>> reports;
@@ -28,11 +30,13 @@ struct Relay {
   std::atomic<bool> stop{false};
 };
 
-// The progress callback of a job on another thread: its report is queued
-// for the calling thread, and the answer is only "stop?".
+// The progress callback of a job: its report is queued for the calling
+// thread, and the answer is only "stop?". On the calling thread the queue is
+// passed on at once as far as the job order allows (`pass_on`).
 struct QueuedProgress {
   Relay* relay;
   size_t job;
+  const std::function<void()>* pass_on;  // the calling thread's, else null
 
   static bool call(double fraction, const char* stage, void* user) {
     const auto* self = static_cast<const QueuedProgress*>(user);
@@ -40,7 +44,10 @@ struct QueuedProgress {
       const std::lock_guard<std::mutex> lock(self->relay->mutex);
       self->relay->reports[self->job].push_back({fraction, stage});
     }
-    self->relay->changed.notify_all();
+    if (self->pass_on)
+      (*self->pass_on)();
+    else
+      self->relay->changed.notify_all();
     return !self->relay->stop.load();
   }
 };
@@ -64,77 +71,88 @@ unsigned thread_count(int threads) {
 void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress) {
   const size_t n = jobs.size();
   if (n == 0) return;
-  const size_t cores = thread_count(threads);
-  const size_t helpers = std::min(cores, n) - 1;  // threads besides the calling one
+  const size_t helpers = std::min<size_t>(thread_count(threads), n) - 1;  // threads besides the calling one
 
   Relay relay(n);
   std::vector<std::exception_ptr> errors(n);
-  std::vector<QueuedProgress> queued(n);
-  for (size_t k = 0; k < n; ++k) queued[k] = {&relay, k};
   const double share = 1.0 / static_cast<double>(n);
-  const auto own_share = [&](size_t k) {
-    return progress.sub(share * static_cast<double>(k), share * static_cast<double>(k + 1));
-  };
-  const auto run_job = [&](size_t k, const Progress& job_progress) {
-    if (!relay.stop) {
-      try {
-        jobs[k](job_progress);
-      } catch (...) {
-        errors[k] = std::current_exception();
-        relay.stop = true;
-      }
-    }
-    {
-      const std::lock_guard<std::mutex> lock(relay.mutex);
-      relay.ended[k] = true;
-    }
-    relay.changed.notify_all();
-  };
 
-  // Jobs 1, 2, ... go to the helpers in turn (a fixed assignment); job 0,
-  // and the jobs of a helper that could not be started, to this thread.
-  std::vector<std::thread> pool;
-  for (size_t h = 0; h < helpers; ++h) {
-    try {
-      pool.emplace_back([&, h] {
-        for (size_t k = 1 + h; k < n; k += helpers) run_job(k, Progress{&QueuedProgress::call, &queued[k], 0.0, 1.0});
-      });
-    } catch (...) {
-      break;  // could not start a thread: this one does its jobs
-    }
-  }
-  const size_t started = pool.size();
-  const auto on_helper = [&](size_t k) { return k > 0 && (k - 1) % std::max<size_t>(helpers, 1) < started; };
-
-  // This thread's jobs report straight to the callback; the helpers' reports
-  // are passed on after them, job by job, as they come. A cancel stops every
-  // job at its next report and the rest of the reports are dropped.
+  // Passes the queued reports on to the callback, job by job in order, as
+  // far as the jobs have ended: the calling thread only. A cancel stops
+  // every job at its next report and the rest of the reports are dropped.
+  size_t relayed = 0;  // the jobs whose reports have all been passed on
   std::exception_ptr cancelled;
-  for (size_t k = 0; k < n; ++k) {
-    if (!on_helper(k)) {
-      run_job(k, own_share(k));
-      continue;
-    }
-    for (;;) {
+  const std::function<void()> pass_on = [&] {
+    while (relayed < n) {
       std::deque<Report> batch;
       bool ended = false;
       {
-        std::unique_lock<std::mutex> lock(relay.mutex);
-        relay.changed.wait(lock, [&] { return !relay.reports[k].empty() || relay.ended[k]; });
-        batch.swap(relay.reports[k]);
-        ended = relay.ended[k];
+        const std::lock_guard<std::mutex> lock(relay.mutex);
+        batch.swap(relay.reports[relayed]);
+        ended = relay.ended[relayed];
       }
+      const Progress own_share =
+          progress.sub(share * static_cast<double>(relayed), share * static_cast<double>(relayed + 1));
       for (const Report& r : batch) {
         if (cancelled || relay.stop) break;
         try {
-          own_share(k).report(r.fraction, r.stage);
+          own_share.report(r.fraction, r.stage);
         } catch (...) {
           cancelled = std::current_exception();
           relay.stop = true;
         }
       }
-      if (ended) break;
+      if (!ended) return;
+      ++relayed;
     }
+  };
+
+  std::vector<QueuedProgress> queued(n);
+  std::vector<QueuedProgress> own_queued(n);
+  for (size_t k = 0; k < n; ++k) {
+    queued[k] = {&relay, k, nullptr};
+    own_queued[k] = {&relay, k, &pass_on};
+  }
+  // Every thread takes the next job not yet taken until none is left, so a
+  // long job does not hold up the short ones behind it (which thread runs a
+  // job does not change its result).
+  const auto take_jobs = [&](bool calling_thread) {
+    for (size_t k = relay.next_job++; k < n; k = relay.next_job++) {
+      if (!relay.stop) {
+        try {
+          jobs[k](Progress{&QueuedProgress::call, calling_thread ? &own_queued[k] : &queued[k], 0.0, 1.0});
+        } catch (...) {
+          errors[k] = std::current_exception();
+          relay.stop = true;
+        }
+      }
+      {
+        const std::lock_guard<std::mutex> lock(relay.mutex);
+        relay.ended[k] = true;
+      }
+      if (calling_thread)
+        pass_on();
+      else
+        relay.changed.notify_all();
+    }
+  };
+
+  std::vector<std::thread> pool;
+  for (size_t h = 0; h < helpers; ++h) {
+    try {
+      pool.emplace_back([&] { take_jobs(false); });
+    } catch (...) {
+      break;  // could not start a thread: the others and this one take its jobs
+    }
+  }
+  take_jobs(true);
+  // The helpers' reports, as they come, until every job has ended.
+  while (relayed < n) {
+    {
+      std::unique_lock<std::mutex> lock(relay.mutex);
+      relay.changed.wait(lock, [&] { return !relay.reports[relayed].empty() || relay.ended[relayed]; });
+    }
+    pass_on();
   }
   for (auto& t : pool) t.join();
 

@@ -8,8 +8,9 @@
 // Only the calling thread calls the caller's progress callback (the add-on's
 // is Python and Blender's), in job order: the reports of job 0, then of job
 // 1, and so on, whatever the thread count, so the fraction never goes back.
-// Jobs on other threads queue their reports, which the calling thread passes
-// on once its own are done, and hear only "stop?" back. When the callback cancels, every
+// Every job queues its reports and hears only "stop?" back; the calling
+// thread passes the queues on, as far as the job order allows, at each
+// report of its own job and once it has no job left. When the callback cancels, every
 // job stops at its next report, the rest of the reports are dropped, all are
 // joined and EngineError(cancelled) is rethrown.
 //
@@ -31,14 +32,14 @@ using Job = std::function<void(const Progress&)>;
 // Runs every job once and returns when all are done.
 //   jobs: independent tasks; job k reports through the Progress it is given
 //   (its reports reach the callback in progress.sub(k / n, (k + 1) / n)).
-//   Job 0 runs on the calling thread, jobs 1, 2, ... on the other threads in
-//   turn; a thread that cannot be started leaves its jobs to the calling one.
+//   Each thread, the calling one among them, takes the next job not yet
+//   taken until none is left (a thread that cannot be started leaves its
+//   share to the others); put the long jobs first.
 //   threads: at most this many threads, the calling one included; 0: one
 //   per core.
-//   progress: the caller's callback, called from the calling thread only.
-// Throws, once every job has ended: the exception of the lowest-numbered job
-// that failed other than by a cancel, else EngineError(cancelled) when the
-// callback cancelled.
+//   progress: the caller's callback, called from the calling thread only
+//   (at its own jobs' reports and between its jobs, and while it waits for
+//   the others once none is left).
 void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress);
 
 // The threads that `threads` asks for: itself when positive, else one per

@@ -146,35 +146,66 @@ SmoothedInput smoothed_input(const PatchRun& run, DeformationRun* deformation) {
   return out;
 }
 
-// The smoothed starts (after the polish of the input and the choice's own):
-// the smoothing, its step, the projection's start, each where it can win.
-void add_smoothed_starts(const PatchRun& run, SmoothedInput smoothed, Contest& contest, std::vector<Start>& starts) {
+// The smoothed starts: the smoothing and its step (where the deformation
+// made one) and on sheets the projection's start, before the order decides
+// which of them can win (enter_starts).
+struct SmoothedStarts {
+  std::vector<Start> starts;
+  double smoothing_move = 0.0;  // RMS from the input
+  Positions smoothed;           // the smoothing, for its roughness
+};
+
+SmoothedStarts smoothed_starts(const PatchRun& run, SmoothedInput smoothed) {
   const MeasuredInput& input = run.input;
-  const double smoothing_move = motion_of(smoothed.smoothed, input.positions).rms;
-  if (contest.bound() > kShapeChangeMove * smoothing_move)
-    contest.set_shape_roughness(
-        normal_roughness(face_normals(smoothed.smoothed, input.triangles), input.triangles, input.connectivity));
-  const bool same_start = smoothing_move < kSameStartShare * contest.bound();
-  // Where the deformation found nothing better (no step), only the projected
-  // start: the guarded ones cost a 28k-face irregular mesh 4 s, and without
-  // them 7 of the 611 family runs of seeds 0-9 and 100-102 changed, the mean
-  // log ratio to the twin by 0.0002.
-  if (!same_start && smoothed.stepped) {
-    starts.push_back({std::move(smoothed.smoothed), ResultOrigin::smoothed_input_polish, smoothing_move, {}});
+  SmoothedStarts out;
+  out.smoothing_move = motion_of(smoothed.smoothed, input.positions).rms;
+  out.smoothed = smoothed.smoothed;
+  if (smoothed.stepped) {
+    out.starts.push_back({std::move(smoothed.smoothed), ResultOrigin::smoothed_input_polish, out.smoothing_move, {}});
     const double stepped_move = motion_of(*smoothed.stepped, input.positions).rms;
-    starts.push_back({std::move(*smoothed.stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
+    out.starts.push_back({std::move(*smoothed.stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
   }
   // The projection, on sheets (one patch, or pieces cut at creases, smoothed
   // each on its own; a segmented object's patch borders are not its
   // creases, and its corners are cut by that smoothing: it won on none of
-  // the shared meshes and cost human_woman 0.7 s) and where the smoothing
-  // moves the input enough.
+  // the shared meshes and cost human_woman 0.7 s).
   if (run.sheets) {
     Positions projected = projection_start(run);
     const double projected_move = motion_of(projected, input.positions).rms;
-    if (projected_move >= kSameStartShare * contest.bound())
-      starts.push_back({std::move(projected), ResultOrigin::projected_input, projected_move, {}, true});
+    out.starts.push_back({std::move(projected), ResultOrigin::projected_input, projected_move, {}, true});
   }
+  return out;
+}
+
+// Which smoothed starts take part, against the choice (after its polish):
+// those where the smoothing moves the input enough against the choice's
+// move; and the smoothed shape's roughness as the reference where the
+// choice moved far more than the smoothing. Returns the flags, one per
+// start.
+std::vector<bool> enter_starts(const PatchRun& run, const SmoothedStarts& smoothed, Contest& contest) {
+  const MeasuredInput& input = run.input;
+  if (contest.bound() > kShapeChangeMove * smoothed.smoothing_move)
+    contest.set_shape_roughness(
+        normal_roughness(face_normals(smoothed.smoothed, input.triangles), input.triangles, input.connectivity));
+  const double bound = contest.bound();
+  const bool same_start = smoothed.smoothing_move < kSameStartShare * bound;
+  std::vector<bool> entered;
+  for (const Start& start : smoothed.starts)
+    entered.push_back(start.projected ? start.move >= kSameStartShare * bound : !same_start);
+  return entered;
+}
+
+// A start's polish: the projection's steps first where it is the projected
+// one.
+PolishResult polish_start(const PatchRun& run, const Start& start, PolishOptions options, const Progress& progress) {
+  const MeasuredInput& input = run.input;
+  if (start.projected) {
+    options.pull_steps = kProjectionSteps;
+    options.active_defect = 0.0;
+    options.max_iterations = kProjectionSteps + kProjectionPolishSteps;
+  }
+  return polish_defects(start.positions, input.positions, input.normals, input.triangles, run.scored, run.pinned,
+                        options, progress);
 }
 
 }  // namespace
@@ -183,46 +214,57 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
                           const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
                           const Progress& progress) {
   const MeasuredInput& input = run.input;
+  const bool smoothed_candidates = input.options.polish_smoothed_input;
   // A deformed result's smoothed starts are made first, so that the
   // deformation's system (its factor: 360 MB of a 1M-face sheet's peak) goes
   // before any polish runs; the step is wasted only where the smoothing
   // turns out to move the input too little to compete (same_start).
   std::optional<SmoothedInput> smoothed;
-  if (input.options.polish_smoothed_input && deformed) smoothed = smoothed_input(run, &deformation);
+  if (smoothed_candidates && deformed) smoothed = smoothed_input(run, &deformation);
   deformation.release();
-  std::vector<Start> starts;
-  starts.push_back({input.positions, ResultOrigin::input_polish, 0.0, {}});
-  if (deformed) {
-    // The polish of the input gives up past the choice's move once the
-    // choice's polishes have set it (PolishOptions::late_give_up_move).
-    std::atomic<double> choice_move{0.0};
-    PolishOptions input_options = plan.candidates;
-    input_options.late_give_up_move = &choice_move;
-    run_concurrently({[&](const Progress& share) {
-                        polish_choice(share);
-                        choice_move = motion_of(choice.positions, input.positions).rms;
-                      },
-                      [&](const Progress& share) {
-                        starts[0].polished =
-                            polish_defects(input.positions, input.positions, input.normals, input.triangles, run.scored,
-                                           run.pinned, input_options, share);
-                      }},
-                     input.options.threads, progress.sub(0.0, 0.6));
-  } else {
-    // The choice's polish is the polish of the input.
-    polish_choice(progress.sub(0.0, 0.6));
-  }
+  // On more than one thread every polish runs at once ("ahead"), each
+  // candidate giving up past the choice's move (which its polish sets while
+  // they run), the order then taking only what the one-by-one order would
+  // have: the cores are not idle while the long polish of the input runs
+  // beside the choice's, and the result is the same (below).
+  const bool ahead = smoothed_candidates && thread_count(input.options.threads) > 1;
+  std::optional<SmoothedStarts> smoothed_ahead;
+  if (ahead) smoothed_ahead = smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(run, nullptr));
+
+  std::atomic<double> choice_move{0.0};
+  PolishOptions late_options = plan.candidates;
+  late_options.late_give_up_move = &choice_move;
+  const auto polish_choice_job = [&](const Progress& share) {
+    polish_choice(share);
+    choice_move = motion_of(choice.positions, input.positions).rms;
+  };
+  Start input_start{input.positions, ResultOrigin::input_polish, 0.0, {}};
+  const auto polish_input_job = [&](const Progress& share) {
+    input_start.polished = polish_start(run, input_start, late_options, share);
+  };
+  // The polish of the input gives up past the choice's move once the
+  // choice's polishes have set it (PolishOptions::late_give_up_move); where
+  // nothing was deformed the choice's polish is the polish of the input.
+  std::vector<Job> first;
+  first.push_back(polish_choice_job);
+  if (deformed) first.push_back(polish_input_job);
+  // The projection (the longest of them) first.
+  if (ahead)
+    for (bool projected : {true, false})
+      for (Start& start : smoothed_ahead->starts)
+        if (start.projected == projected)
+          first.push_back(
+              [&](const Progress& share) { start.polished = polish_start(run, start, late_options, share); });
+  run_concurrently(first, input.options.threads, progress.sub(0.0, ahead ? 0.9 : 0.6));
+
   Contest contest(input, judge.input().figures);
   if (choice.improved) contest.add(choice, false);
-  // Nothing to compete with when even the polish of the input found nothing better.
-  if (input.options.polish_smoothed_input && choice.improved)
-    add_smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(run, nullptr), contest, starts);
-  // A start as far as the winner so far, or a polish that went as far at any
-  // step (PolishResult::largest_move), cannot win.
-  const auto judge_candidate = [&](const Start& start) {
+  // A polish that went past the bound it was given, or as far as the winner
+  // so far (PolishResult::largest_move), cannot win; nor a start as far.
+  const auto judge_candidate = [&](const Start& start, double given_bound) {
     const PolishResult& polished = start.polished;
     if (polished.iterations == 0 || (!start.projected && start.move >= contest.bound()) ||
-        polished.largest_move > contest.bound())
+        polished.largest_move > given_bound || polished.largest_move > contest.bound())
       return;
     const Measured now = judge.measure(polished.positions, face_normals(polished.positions, input.triangles));
     if (!judge.admissible(now)) return;
@@ -231,28 +273,42 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
     candidate.polish_iterations = polished.iterations;
     contest.add(std::move(candidate), start.projected);
   };
-  judge_candidate(starts[0]);
-  // The smoothed starts, polished beside each other against the winner so
-  // far: one already farther is not polished (the benchmark's noise-free
-  // wavy cone spent 300 ms polishing two that lost so), and a polish gives
-  // up once it is farther.
-  PolishOptions smoothed_options = plan.candidates;
-  smoothed_options.give_up_move = contest.bound();
-  PolishOptions projection_options = smoothed_options;
-  projection_options.pull_steps = kProjectionSteps;
-  projection_options.active_defect = 0.0;
-  projection_options.max_iterations = kProjectionSteps + kProjectionPolishSteps;
-  std::vector<Job> polishes;
-  for (size_t k = 1; k < starts.size(); ++k) {
-    if (!starts[k].projected && starts[k].move >= contest.bound()) continue;
-    polishes.push_back([&, k](const Progress& share) {
-      starts[k].polished =
-          polish_defects(starts[k].positions, input.positions, input.normals, input.triangles, run.scored, run.pinned,
-                         starts[k].projected ? projection_options : smoothed_options, share);
-    });
+  // Which smoothed starts take part is decided against the choice alone;
+  // the polish of the input then sets the bound they must stay within.
+  std::optional<SmoothedStarts> starts;
+  std::vector<bool> entered;
+  // Nothing to compete with when even the polish of the input found nothing better.
+  if (smoothed_candidates && choice.improved) {
+    starts = ahead ? std::move(*smoothed_ahead)
+                   : smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(run, nullptr));
+    entered = enter_starts(run, *starts, contest);
   }
-  run_concurrently(polishes, input.options.threads, progress.sub(0.6, 1.0));
-  for (size_t k = 1; k < starts.size(); ++k) judge_candidate(starts[k]);
+  judge_candidate(input_start, std::numeric_limits<double>::infinity());
+  if (starts) {
+    // The smoothed starts, polished beside each other against the winner so
+    // far: one already farther is not polished (the benchmark's noise-free
+    // wavy cone spent 300 ms polishing two that lost so), and a polish gives
+    // up once it is farther. Polished ahead against the choice's move, a
+    // start's polish is the one it would have had, or went past the bound
+    // and loses as it would have, unless that bound is the larger and it
+    // gave up between them (where the input's polish, more developable than
+    // the choice, moved farther): that one is polished again.
+    PolishOptions bound_options = plan.candidates;
+    bound_options.give_up_move = contest.bound();
+    std::vector<Job> polishes;
+    for (size_t k = 0; k < starts->starts.size(); ++k) {
+      Start& start = starts->starts[k];
+      if (!entered[k] || (!start.projected && start.move >= bound_options.give_up_move)) {
+        start.polished = PolishResult{};
+        continue;
+      }
+      if (ahead && !(start.polished.gave_up && start.polished.largest_move <= bound_options.give_up_move)) continue;
+      polishes.push_back(
+          [&](const Progress& share) { start.polished = polish_start(run, start, bound_options, share); });
+    }
+    run_concurrently(polishes, input.options.threads, progress.sub(ahead ? 0.9 : 0.6, 1.0));
+    for (const Start& start : starts->starts) judge_candidate(start, bound_options.give_up_move);
+  }
   const int winner = contest.winner();
   if (winner >= 0) choice = std::move(contest.candidate(winner));
 }

@@ -30,9 +30,14 @@ namespace developable {
 // A candidate that cannot win is not polished, or gives up: one that starts
 // (or, at any step, is) farther (RMS) from the input than the winner so far
 // (the order's winner grows no farther as candidates join, unless one more
-// developable than its anchor changes the anchor). Each polish is the same
-// whatever thread runs it, and the order does not depend on the order the
-// candidates come in, so the result does not depend on the thread count.
+// developable than its anchor changes the anchor). On one thread that is
+// two rounds (the choice's and the input's polishes, then the smoothed
+// starts'); on more, every polish runs at once, giving up past the choice's
+// move, and the order takes from them what the rounds would have (a polish
+// that gave up below the rounds' bound is polished again). Each polish is
+// the same whatever thread runs it, and the order does not depend on the
+// order the candidates come in, so the result does not depend on the thread
+// count.
 void compete_least_motion(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
                           const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
                           const Progress& progress);

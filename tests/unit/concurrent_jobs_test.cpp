@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -58,6 +59,27 @@ TEST(ConcurrentJobs, EveryJobRunsOnceWhateverTheThreadCount) {
     for (size_t k = 0; k < result.size(); ++k) EXPECT_EQ(result[k], static_cast<int>(k * k)) << threads;
   }
   run_concurrently({}, 2, Progress{});
+}
+
+// A thread takes the next job once it is free: a job that waits for a later
+// one does not hold it up (a fixed assignment of jobs 1 and 2 to one helper
+// would wait here for good).
+TEST(ConcurrentJobs, AFreeThreadTakesTheNextJob) {
+  std::mutex mutex;
+  std::condition_variable changed;
+  bool later_started = false;
+  bool waited = false;
+  const Job waits_for_later = [&](const Progress&) {
+    std::unique_lock<std::mutex> lock(mutex);
+    waited = changed.wait_for(lock, std::chrono::seconds(20), [&] { return later_started; });
+  };
+  const Job later = [&](const Progress&) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    later_started = true;
+    changed.notify_all();
+  };
+  run_concurrently({[](const Progress&) {}, waits_for_later, later}, 2, Progress{});
+  EXPECT_TRUE(waited);
 }
 
 TEST(ConcurrentJobs, TheCallbackHearsEveryJobInOrderFromTheCallingThreadOnly) {

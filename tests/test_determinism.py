@@ -9,7 +9,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from devkit import families, meshes
+from devkit import assemblies, families, meshes
 from devkit.binding import native
 from devkit.obj import read_obj, write_obj
 
@@ -65,23 +65,28 @@ def test_thread_counts_give_the_same_file_through_the_tool(big_mesh, tool_path, 
 
 
 @pytest.mark.parametrize(
-    "family,triangulation,seed",
+    "make",
     [
-        ("cylinder_patch", "grid", 101),
-        ("bent_sheet", "slivers", 102),
+        pytest.param(lambda: families.make("cylinder_patch", "grid", 4000, 0.02, 101), id="cylinder_patch-grid-101"),
+        pytest.param(lambda: families.make("bent_sheet", "slivers", 4000, 0.02, 102), id="bent_sheet-slivers-102"),
+        # Crease pieces: the smoothed starts piece by piece, and whether they
+        # take part decided against the result alone (a tee whose smoothing
+        # moves it less than a twentieth of the result's move).
+        pytest.param(lambda: assemblies.random_case("tee", 15), id="tee-15"),
     ],
 )
-def test_least_motions_candidates_polished_at_once_give_one_result(family, triangulation, seed, monkeypatch):
-    """Least motion polishes its candidates side by side (pipeline.cpp,
-    run_concurrently) and judges them in one order once all have run, so the
-    thread count changes the time, not the result."""
-    mesh = families.make(family, triangulation, 4000, 0.02, seed)
+def test_least_motions_candidates_polished_at_once_give_one_result(make, monkeypatch):
+    """Least motion polishes its candidates at once on more than one thread
+    (least_motion.h, run_concurrently) and judges them in one order once all
+    have run, taking what the one-by-one rounds of one thread would have, so
+    the thread count changes the time, not the result."""
+    mesh = make()
     digests = set()
     for threads in ("1", "2", "3"):
         monkeypatch.setenv("DEVELOPABLE_THREADS", threads)
         result = native.run(mesh.positions, mesh.triangles)
         digests.add(digest(result.positions))
-    assert result.stats["result_origin"] in native.SMOOTHED_ORIGINS, result.stats
+    assert result.stats["result_origin"] in native.SMOOTHED_ORIGINS or result.stats["patches"] > 1, result.stats
     assert len(digests) == 1
 
 

@@ -63,7 +63,7 @@ DeformationRun::DeformationRun(const PatchRun& run, TargetField targets, Pipelin
     : run_(run),
       stats_(stats),
       targets_(std::move(targets)),
-      decompose_start_((progress.report(0.08, "factorization"), Clock::now())),
+      decompose_start_((progress.report(0.0, "factorization"), Clock::now())),
       deformation_(system_of(run, targets_.targets())),
       step_(std::in_place, deformation_, run.input.positions, run.input.normals, run.input.triangles,
             run.input.connectivity, formulation_of(run.input.options) == Formulation::decoupled, run.input.limit,

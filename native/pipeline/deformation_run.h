@@ -41,8 +41,9 @@ StallRule stall_rule(bool piecewise);
 
 class DeformationRun {
  public:
-  // Builds the system toward `targets`' first targets (t_D in stats). The
-  // references must outlive this.
+  // Builds the system toward `targets`' first targets (t_D in stats),
+  // reporting "factorization" at the start of `progress`. The references
+  // must outlive this.
   DeformationRun(const PatchRun& run, TargetField targets, PipelineStats& stats, const Progress& progress);
 
   // The iterations: every admissible iterate that scores below the choice's

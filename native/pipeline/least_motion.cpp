@@ -108,15 +108,31 @@ std::vector<int> smoothing_groups(const PatchRun& run) {
   return run.piecewise && run.sheets ? run.patch_ids : std::vector<int>{};
 }
 
-// The input smoothed without the feature guard (smoothing_groups), within
-// the limit, its turned sliver faces given back the input's corners.
-Positions projection_start(const PatchRun& run) {
+}  // namespace
+
+InputSmoothings smooth_input(const PatchRun& run) {
   const MeasuredInput& input = run.input;
-  JetDenoiseOptions unguarded;
-  unguarded.feature_angle_deg = kProjectionSmoothing;
-  unguarded.face_groups = smoothing_groups(run);
-  Positions start = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, unguarded);
-  clamp_moves(start, input.positions, input.limit);
+  InputSmoothings out;
+  JetDenoiseOptions guarded;
+  guarded.face_groups = smoothing_groups(run);
+  out.guarded = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, guarded);
+  clamp_moves(out.guarded, input.positions, input.limit);
+  if (run.sheets) {
+    JetDenoiseOptions unguarded;
+    unguarded.feature_angle_deg = kProjectionSmoothing;
+    unguarded.face_groups = smoothing_groups(run);
+    out.unguarded = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, unguarded);
+    clamp_moves(*out.unguarded, input.positions, input.limit);
+  }
+  return out;
+}
+
+namespace {
+
+// The projection's start: the unguarded smoothing, its turned sliver faces
+// given back the input's corners.
+Positions projection_start(const PatchRun& run, Positions start) {
+  const MeasuredInput& input = run.input;
   // As many rounds as it takes: the input folds nothing.
   put_back_folded_corners(start, input.positions, input.triangles, input.normals,
                           CreaseGuard(input.triangles, input.normals, {}, 0.0),
@@ -124,21 +140,18 @@ Positions projection_start(const PatchRun& run) {
   return start;
 }
 
-// The input with its noise smoothed (jet_denoise, within the limit) and,
-// given the deformation (a deformed result's), that smoothing after one of
-// its steps toward targets refit on it.
+// The input's smoothing and, given the deformation (a deformed result's),
+// that smoothing after one of its steps toward targets refit on it.
 struct SmoothedInput {
   Positions smoothed;
   std::optional<Positions> stepped;
+  std::optional<Positions> unguarded;  // InputSmoothings::unguarded
 };
 
-SmoothedInput smoothed_input(const PatchRun& run, DeformationRun* deformation) {
-  const MeasuredInput& input = run.input;
+SmoothedInput smoothed_input(InputSmoothings smoothings, DeformationRun* deformation) {
   SmoothedInput out;
-  JetDenoiseOptions options;
-  options.face_groups = smoothing_groups(run);
-  out.smoothed = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, options);
-  clamp_moves(out.smoothed, input.positions, input.limit);
+  out.smoothed = std::move(smoothings.guarded);
+  out.unguarded = std::move(smoothings.unguarded);
   if (deformation) {
     out.stepped = out.smoothed;
     deformation->step_from(*out.stepped);
@@ -169,8 +182,8 @@ SmoothedStarts smoothed_starts(const PatchRun& run, SmoothedInput smoothed) {
   // each on its own; a segmented object's patch borders are not its
   // creases, and its corners are cut by that smoothing: it won on none of
   // the shared meshes and cost human_woman 0.7 s).
-  if (run.sheets) {
-    Positions projected = projection_start(run);
+  if (smoothed.unguarded) {
+    Positions projected = projection_start(run, std::move(*smoothed.unguarded));
     const double projected_move = motion_of(projected, input.positions).rms;
     out.starts.push_back({std::move(projected), ResultOrigin::projected_input, projected_move, {}, true});
   }
@@ -211,16 +224,22 @@ PolishResult polish_start(const PatchRun& run, const Start& start, PolishOptions
 }  // namespace
 
 void compete_least_motion(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
+                          std::optional<InputSmoothings> smoothings,
                           const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
                           const Progress& progress) {
   const MeasuredInput& input = run.input;
   const bool smoothed_candidates = input.options.polish_smoothed_input;
+  const auto take_smoothings = [&] {
+    InputSmoothings taken = smoothings ? std::move(*smoothings) : smooth_input(run);
+    smoothings.reset();
+    return taken;
+  };
   // A deformed result's smoothed starts are made first, so that the
   // deformation's system (its factor: 360 MB of a 1M-face sheet's peak) goes
   // before any polish runs; the step is wasted only where the smoothing
   // turns out to move the input too little to compete (same_start).
   std::optional<SmoothedInput> smoothed;
-  if (smoothed_candidates && deformed) smoothed = smoothed_input(run, &deformation);
+  if (smoothed_candidates && deformed) smoothed = smoothed_input(take_smoothings(), &deformation);
   deformation.release();
   // On more than one thread every polish runs at once ("ahead"), each
   // candidate giving up past the choice's move (which its polish sets while
@@ -229,7 +248,8 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
   // beside the choice's, and the result is the same (below).
   const bool ahead = smoothed_candidates && thread_count(input.options.threads) > 1;
   std::optional<SmoothedStarts> smoothed_ahead;
-  if (ahead) smoothed_ahead = smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(run, nullptr));
+  if (ahead)
+    smoothed_ahead = smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(take_smoothings(), nullptr));
 
   std::atomic<double> choice_move{0.0};
   PolishOptions late_options = plan.candidates;
@@ -280,7 +300,7 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
   // Nothing to compete with when even the polish of the input found nothing better.
   if (smoothed_candidates && choice.improved) {
     starts = ahead ? std::move(*smoothed_ahead)
-                   : smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(run, nullptr));
+                   : smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(take_smoothings(), nullptr));
     entered = enter_starts(run, *starts, contest);
   }
   judge_candidate(input_start, std::numeric_limits<double>::infinity());

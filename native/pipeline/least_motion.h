@@ -16,8 +16,21 @@
 #include "pipeline/run_context.h"
 
 #include <functional>
+#include <optional>
 
 namespace developable {
+
+// The smoothings of the input least motion's starts are made of: with the
+// feature guard (the smoothed start and its step) and, on sheets (one patch
+// or crease pieces), without (the projection's start); on crease pieces
+// piece by piece, each piece's border kept. Each within the move limit.
+// They depend on the input alone, so a run can make them while its
+// deformation's system is factored.
+struct InputSmoothings {
+  Positions guarded;
+  std::optional<Positions> unguarded;  // on sheets only
+};
+InputSmoothings smooth_input(const PatchRun& run);
 
 // Runs the candidates, the deformation's result (`choice`, after its own
 // polish) among them, and makes the order's winner the choice.
@@ -26,7 +39,8 @@ namespace developable {
 //   deformation: the run's, for the smoothed start's step (taken first; the
 //   system is released before any polish runs); deformed: whether
 //   the deformation improved the input (else only the polish of the input
-//   and the projected start compete).
+//   and the projected start compete); smoothings: smooth_input(run) where
+//   already made, else empty (made here where a start needs them).
 // A candidate that cannot win is not polished, or gives up: one that starts
 // (or, at any step, is) farther (RMS) from the input than the winner so far
 // (the order's winner grows no farther as candidates join, unless one more
@@ -39,6 +53,7 @@ namespace developable {
 // order the candidates come in, so the result does not depend on the thread
 // count.
 void compete_least_motion(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
+                          std::optional<InputSmoothings> smoothings,
                           const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
                           const Progress& progress);
 

@@ -1,5 +1,6 @@
 #include "pipeline/patch_alternative.h"
 
+#include "core/concurrent_jobs.h"
 #include "pipeline/deformation_run.h"
 #include "pipeline/judge.h"
 #include "pipeline/least_motion.h"
@@ -12,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace developable {
 namespace {
@@ -103,21 +105,31 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
     return result;
   }
 
-  DeformationRun deformation(run, std::move(targets), stats, progress);
-  deformation.iterate(judge, choice, progress);
+  // Least motion's smoothings depend on the input alone: on more than one
+  // thread they are made while one core factors the deformation's system.
+  std::optional<DeformationRun> deformation;
+  std::optional<InputSmoothings> smoothings;
+  const auto factor = [&](const Progress& share) { deformation.emplace(run, std::move(targets), stats, share); };
+  if (polish_enabled(input.options) && input.options.polish_smoothed_input && thread_count(input.options.threads) > 1)
+    run_concurrently({factor, [&](const Progress&) { smoothings = smooth_input(run); }}, input.options.threads,
+                     progress.sub(0.08, 0.1));
+  else
+    factor(progress.sub(0.08, 0.1));
+  deformation->iterate(judge, choice, progress);
   if (polish_enabled(input.options)) {
     const auto polish_start = Clock::now();
     const bool deformed = choice.improved;
     const PolishPlan plan = polish_plan(run, deformed);
     const auto polish = [&](const Progress& share) { polish_choice(run, plan, judge, choice, share); };
     if (plan.least_motion)
-      compete_least_motion(run, plan, deformation, deformed, polish, judge, choice, progress.sub(0.95, 1.0));
+      compete_least_motion(run, plan, *deformation, deformed, std::move(smoothings), polish, judge, choice,
+                           progress.sub(0.95, 1.0));
     else
       polish(progress.sub(0.95, 1.0));
     stats.time_polish_ms = elapsed_ms(polish_start);
   }
-  result.curves = deformation.chosen_curves();
-  result.target_normals = deformation.chosen_targets();
+  result.curves = deformation->chosen_curves();
+  result.target_normals = deformation->chosen_targets();
 
   Rejections rejected = judge.rejected();
   if (!choice.improved && run.piecewise) rejected.developable_patches = developable_as_split(run);

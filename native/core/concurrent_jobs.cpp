@@ -107,12 +107,8 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
     }
   };
 
+  // A job's callback, set by the thread that takes it.
   std::vector<QueuedProgress> queued(n);
-  std::vector<QueuedProgress> own_queued(n);
-  for (size_t k = 0; k < n; ++k) {
-    queued[k] = {&relay, k, nullptr};
-    own_queued[k] = {&relay, k, &pass_on};
-  }
   // Every thread takes the next job not yet taken until none is left, so a
   // long job does not hold up the short ones behind it (which thread runs a
   // job does not change its result).
@@ -120,7 +116,8 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
     for (size_t k = relay.next_job++; k < n; k = relay.next_job++) {
       if (!relay.stop) {
         try {
-          jobs[k](Progress{&QueuedProgress::call, calling_thread ? &own_queued[k] : &queued[k], 0.0, 1.0});
+          queued[k] = {&relay, k, calling_thread ? &pass_on : nullptr};
+          jobs[k](Progress{&QueuedProgress::call, &queued[k], 0.0, 1.0});
         } catch (...) {
           errors[k] = std::current_exception();
           relay.stop = true;

@@ -39,9 +39,10 @@ struct JetDenoiseOptions {
 //   bit-identical) or empty.
 // Vertices with fewer than 9 two-ring neighbours within their group (6
 // unknowns and some to spare) and those at a feature (options) keep their
-// place, as do pinned ones. Moves are along the fitted plane's normal only, in the caller's
-// units. O(vertices x two-ring size); throws EngineError(internal_error)
-// only when face_groups is neither empty nor one per face.
+// place, as do pinned ones. Moves are along the fitted plane's normal only,
+// in the caller's units. O(vertices x two-ring size); throws
+// EngineError(internal_error) only when face_groups is neither empty nor one
+// per face.
 Positions jet_denoise(const Positions& positions, const Triangles& triangles, const VertexFaces& connectivity,
                       const std::vector<bool>& pinned, const JetDenoiseOptions& options = {});
 

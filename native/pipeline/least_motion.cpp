@@ -110,6 +110,10 @@ std::vector<int> smoothing_groups(const PatchRun& run) {
 
 }  // namespace
 
+bool smooths_ahead(const PipelineOptions& options) {
+  return options.polish_smoothed_input && thread_count(options.threads) > 1;
+}
+
 InputSmoothings smooth_input(const PatchRun& run) {
   const MeasuredInput& input = run.input;
   InputSmoothings out;
@@ -140,50 +144,32 @@ Positions projection_start(const PatchRun& run, Positions start) {
   return start;
 }
 
-// The input's smoothing and, given the deformation (a deformed result's),
-// that smoothing after one of its steps toward targets refit on it.
-struct SmoothedInput {
-  Positions smoothed;
-  std::optional<Positions> stepped;
-  std::optional<Positions> unguarded;  // InputSmoothings::unguarded
-};
-
-SmoothedInput smoothed_input(InputSmoothings smoothings, DeformationRun* deformation) {
-  SmoothedInput out;
-  out.smoothed = std::move(smoothings.guarded);
-  out.unguarded = std::move(smoothings.unguarded);
-  if (deformation) {
-    out.stepped = out.smoothed;
-    deformation->step_from(*out.stepped);
-  }
-  return out;
-}
-
-// The smoothed starts: the smoothing and its step (where the deformation
-// made one) and on sheets the projection's start, before the order decides
-// which of them can win (enter_starts).
+// The smoothed starts: the guarded smoothing and, where the deformation
+// improved the input, that smoothing after one of its steps toward targets
+// refit on it (`stepped`); on sheets the projection's start. The order then
+// decides which of them can win (enter_starts).
 struct SmoothedStarts {
   std::vector<Start> starts;
   double smoothing_move = 0.0;  // RMS from the input
   Positions smoothed;           // the smoothing, for its roughness
 };
 
-SmoothedStarts smoothed_starts(const PatchRun& run, SmoothedInput smoothed) {
+SmoothedStarts smoothed_starts(const PatchRun& run, InputSmoothings smoothings, std::optional<Positions> stepped) {
   const MeasuredInput& input = run.input;
   SmoothedStarts out;
-  out.smoothing_move = motion_of(smoothed.smoothed, input.positions).rms;
-  out.smoothed = smoothed.smoothed;
-  if (smoothed.stepped) {
-    out.starts.push_back({std::move(smoothed.smoothed), ResultOrigin::smoothed_input_polish, out.smoothing_move, {}});
-    const double stepped_move = motion_of(*smoothed.stepped, input.positions).rms;
-    out.starts.push_back({std::move(*smoothed.stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
+  out.smoothing_move = motion_of(smoothings.guarded, input.positions).rms;
+  out.smoothed = smoothings.guarded;
+  if (stepped) {
+    out.starts.push_back({std::move(smoothings.guarded), ResultOrigin::smoothed_input_polish, out.smoothing_move, {}});
+    const double stepped_move = motion_of(*stepped, input.positions).rms;
+    out.starts.push_back({std::move(*stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
   }
   // The projection, on sheets (one patch, or pieces cut at creases, smoothed
   // each on its own; a segmented object's patch borders are not its
   // creases, and its corners are cut by that smoothing: it won on none of
   // the shared meshes and cost human_woman 0.7 s).
-  if (smoothed.unguarded) {
-    Positions projected = projection_start(run, std::move(*smoothed.unguarded));
+  if (smoothings.unguarded) {
+    Positions projected = projection_start(run, std::move(*smoothings.unguarded));
     const double projected_move = motion_of(projected, input.positions).rms;
     out.starts.push_back({std::move(projected), ResultOrigin::projected_input, projected_move, {}, true});
   }
@@ -229,27 +215,29 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
                           const Progress& progress) {
   const MeasuredInput& input = run.input;
   const bool smoothed_candidates = input.options.polish_smoothed_input;
-  const auto take_smoothings = [&] {
-    InputSmoothings taken = smoothings ? std::move(*smoothings) : smooth_input(run);
-    smoothings.reset();
-    return taken;
+  // Made here where not made ahead, only once a start needs them.
+  const auto made = [&]() -> InputSmoothings& {
+    if (!smoothings) smoothings = smooth_input(run);
+    return *smoothings;
   };
-  // A deformed result's smoothed starts are made first, so that the
+  // A deformed result's smoothed start takes its step first, so that the
   // deformation's system (its factor: 360 MB of a 1M-face sheet's peak) goes
   // before any polish runs; the step is wasted only where the smoothing
   // turns out to move the input too little to compete (same_start).
-  std::optional<SmoothedInput> smoothed;
-  if (smoothed_candidates && deformed) smoothed = smoothed_input(take_smoothings(), &deformation);
+  std::optional<Positions> stepped;
+  if (smoothed_candidates && deformed) {
+    stepped = made().guarded;
+    deformation.step_from(*stepped);
+  }
   deformation.release();
   // On more than one thread every polish runs at once ("ahead"), each
   // candidate giving up past the choice's move (which its polish sets while
   // they run), the order then taking only what the one-by-one order would
   // have: the cores are not idle while the long polish of the input runs
   // beside the choice's, and the result is the same (below).
-  const bool ahead = smoothed_candidates && thread_count(input.options.threads) > 1;
+  const bool ahead = smooths_ahead(input.options);
   std::optional<SmoothedStarts> smoothed_ahead;
-  if (ahead)
-    smoothed_ahead = smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(take_smoothings(), nullptr));
+  if (ahead) smoothed_ahead = smoothed_starts(run, std::move(made()), std::move(stepped));
 
   std::atomic<double> choice_move{0.0};
   PolishOptions late_options = plan.candidates;
@@ -299,8 +287,7 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
   std::vector<bool> entered;
   // Nothing to compete with when even the polish of the input found nothing better.
   if (smoothed_candidates && choice.improved) {
-    starts = ahead ? std::move(*smoothed_ahead)
-                   : smoothed_starts(run, smoothed ? std::move(*smoothed) : smoothed_input(take_smoothings(), nullptr));
+    starts = ahead ? std::move(*smoothed_ahead) : smoothed_starts(run, std::move(made()), std::move(stepped));
     entered = enter_starts(run, *starts, contest);
   }
   judge_candidate(input_start, std::numeric_limits<double>::infinity());

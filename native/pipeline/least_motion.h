@@ -32,6 +32,12 @@ struct InputSmoothings {
 };
 InputSmoothings smooth_input(const PatchRun& run);
 
+// Whether least motion's smoothed starts are made and polished ahead, beside
+// other work (the factorisation, the choice's polish): with smoothed starts
+// on, on more than one thread. Else they are made and polished where and
+// when the one-by-one order needs them.
+bool smooths_ahead(const PipelineOptions& options);
+
 // Runs the candidates, the deformation's result (`choice`, after its own
 // polish) among them, and makes the order's winner the choice.
 //   polish_choice: the choice's own polish (polish_choice), run here beside

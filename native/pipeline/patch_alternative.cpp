@@ -110,7 +110,7 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
   std::optional<DeformationRun> deformation;
   std::optional<InputSmoothings> smoothings;
   const auto factor = [&](const Progress& share) { deformation.emplace(run, std::move(targets), stats, share); };
-  if (polish_enabled(input.options) && input.options.polish_smoothed_input && thread_count(input.options.threads) > 1)
+  if (polish_enabled(input.options) && smooths_ahead(input.options))
     run_concurrently({factor, [&](const Progress&) { smoothings = smooth_input(run); }}, input.options.threads,
                      progress.sub(0.08, 0.1));
   else

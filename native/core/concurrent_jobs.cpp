@@ -68,7 +68,20 @@ unsigned thread_count(int threads) {
   return threads > 0 ? static_cast<unsigned>(threads) : std::max(1u, std::thread::hardware_concurrency());
 }
 
-void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress) {
+SpareCores::SpareCores(int threads) : spare_(static_cast<int>(thread_count(threads)) - 1) {}
+
+unsigned SpareCores::take(unsigned most) {
+  int spare = spare_.load();
+  while (spare > 0 && most > 0) {
+    const int taken = std::min(spare, static_cast<int>(most));
+    if (spare_.compare_exchange_weak(spare, spare - taken)) return static_cast<unsigned>(taken);
+  }
+  return 0;
+}
+
+void SpareCores::give_back(unsigned count) { spare_ += static_cast<int>(count); }
+
+void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress, SpareCores* spare) {
   const size_t n = jobs.size();
   if (n == 0) return;
   const size_t helpers = std::min<size_t>(thread_count(threads), n) - 1;  // threads besides the calling one
@@ -137,13 +150,19 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
   std::vector<std::thread> pool;
   for (size_t h = 0; h < helpers; ++h) {
     try {
-      pool.emplace_back([&] { take_jobs(false); });
+      pool.emplace_back([&] {
+        if (spare) spare->start_working();
+        take_jobs(false);
+        if (spare) spare->stop_working();
+      });
     } catch (...) {
       break;  // could not start a thread: the others and this one take its jobs
     }
   }
   take_jobs(true);
-  // The helpers' reports, as they come, until every job has ended.
+  // The helpers' reports, as they come, until every job has ended; the
+  // calling thread's core is spare meanwhile.
+  if (spare) spare->stop_working();
   while (relayed < n) {
     {
       std::unique_lock<std::mutex> lock(relay.mutex);
@@ -152,6 +171,7 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
     pass_on();
   }
   for (auto& t : pool) t.join();
+  if (spare) spare->start_working();
 
   // A job's own failure before the cancels it caused in the others.
   for (const auto& error : errors)
@@ -191,6 +211,13 @@ void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,
   for (auto& t : pool) t.join();
   for (const auto& error : errors)
     if (error) std::rethrow_exception(error);
+}
+
+void parallel_for(Eigen::Index count, Eigen::Index chunk, SpareCores* spare,
+                  const std::function<void(Eigen::Index, Eigen::Index)>& body) {
+  const Eigen::Index chunks = (count + std::max<Eigen::Index>(chunk, 1) - 1) / std::max<Eigen::Index>(chunk, 1);
+  const CoreLease lease(chunks > 1 ? spare : nullptr, static_cast<unsigned>(std::min<Eigen::Index>(chunks - 1, 7)));
+  parallel_for(count, chunk, lease.threads(), body);
 }
 
 }  // namespace developable

@@ -22,12 +22,40 @@
 
 #include <Eigen/Core>
 
+#include <atomic>
 #include <functional>
 #include <vector>
 
 namespace developable {
 
 using Job = std::function<void(const Progress&)>;
+
+// The cores of a run that none of its threads is working on. Work that can
+// share out over more cores (a polish's products) takes one only while it
+// would idle: least motion's candidates run one to a core, and once the
+// short ones end, the long one left takes the freed cores (docs/method.md,
+// "Spare cores"). run_concurrently counts its threads in and out; the
+// thread that makes a SpareCores counts as working. The count may go below
+// zero (more threads than cores): nothing is then taken.
+class SpareCores {
+ public:
+  // thread_count(threads) cores, one of them the calling thread's.
+  explicit SpareCores(int threads);
+  SpareCores(const SpareCores&) = delete;
+  SpareCores& operator=(const SpareCores&) = delete;
+
+  // Takes up to `most` spare cores; returns how many it took (0 when none
+  // is spare). Give them back with give_back.
+  unsigned take(unsigned most);
+  void give_back(unsigned count);
+
+  // A thread starts or stops working (run_concurrently's threads).
+  void start_working() { --spare_; }
+  void stop_working() { ++spare_; }
+
+ private:
+  std::atomic<int> spare_;
+};
 
 // Runs every job once and returns when all are done.
 //   jobs: independent tasks; job k reports through the Progress it is given
@@ -40,7 +68,9 @@ using Job = std::function<void(const Progress&)>;
 //   progress: the caller's callback, called from the calling thread only
 //   (at its own jobs' reports and between its jobs, and while it waits for
 //   the others once none is left).
-void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress);
+//   spare: null, or the run's spare cores: each thread counts as working
+//   while it runs jobs, the calling thread not while it waits for the others.
+void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress, SpareCores* spare = nullptr);
 
 // The threads that `threads` asks for: itself when positive, else one per
 // core (at least 1).
@@ -57,6 +87,32 @@ unsigned thread_count(int threads);
 // Every chunk runs, even after one threw; then the exception of the lowest
 // chunk that threw is rethrown (the same whatever the thread count).
 void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,
+                  const std::function<void(Eigen::Index, Eigen::Index)>& body);
+
+// Up to `most` of the spare cores (none when `spare` is null), held while
+// the lease lives.
+class CoreLease {
+ public:
+  CoreLease(SpareCores* spare, unsigned most) : spare_(spare), taken_(spare != nullptr ? spare->take(most) : 0) {}
+  ~CoreLease() {
+    if (taken_ > 0) spare_->give_back(taken_);
+  }
+  CoreLease(const CoreLease&) = delete;
+  CoreLease& operator=(const CoreLease&) = delete;
+
+  // The calling thread and the cores taken.
+  int threads() const { return static_cast<int>(taken_) + 1; }
+
+ private:
+  SpareCores* spare_;
+  unsigned taken_;
+};
+
+// parallel_for on the calling thread and the cores `spare` has spare (as
+// many as the chunks can use, at most 8 threads, given back at the end); on
+// the calling thread alone when `spare` is null or has none. The same result
+// whatever it takes.
+void parallel_for(Eigen::Index count, Eigen::Index chunk, SpareCores* spare,
                   const std::function<void(Eigen::Index, Eigen::Index)>& body);
 
 }  // namespace developable

@@ -17,16 +17,36 @@ Eigen::Vector3d corner(const Positions& positions, const Triangles& triangles, E
   return positions.row(triangles(f, c)).transpose();
 }
 
+// Faces (or edges) a chunk of the measures shared out to spare cores: a
+// 100k-face mesh is 13 chunks.
+constexpr Eigen::Index kChunk = 8192;
+
+// The items of [0, count) that `picked` picks, ascending, the chunks looked
+// at on `spare` cores.
+template <typename Pick>
+std::vector<Eigen::Index> picked_items(Eigen::Index count, SpareCores* spare, const Pick& picked) {
+  std::vector<std::vector<Eigen::Index>> chunks(static_cast<size_t>((count + kChunk - 1) / kChunk));
+  parallel_for(count, kChunk, spare, [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index i = begin; i < end; ++i)
+      if (picked(i)) chunks[static_cast<size_t>(begin / kChunk)].push_back(i);
+  });
+  std::vector<Eigen::Index> items;
+  for (const auto& chunk : chunks) items.insert(items.end(), chunk.begin(), chunk.end());
+  return items;
+}
+
 }  // namespace
 
-Normals face_normals(const Positions& positions, const Triangles& triangles) {
+Normals face_normals(const Positions& positions, const Triangles& triangles, SpareCores* spare) {
   Normals normals(triangles.rows(), 3);
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    const Eigen::Vector3d a = corner(positions, triangles, f, 0);
-    const Eigen::Vector3d n = (corner(positions, triangles, f, 1) - a).cross(corner(positions, triangles, f, 2) - a);
-    const double length = n.norm();
-    normals.row(f) = length > 0.0 ? Eigen::RowVector3d(n.transpose() / length) : Eigen::RowVector3d::Zero();
-  }
+  parallel_for(triangles.rows(), kChunk, spare, [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index f = begin; f < end; ++f) {
+      const Eigen::Vector3d a = corner(positions, triangles, f, 0);
+      const Eigen::Vector3d n = (corner(positions, triangles, f, 1) - a).cross(corner(positions, triangles, f, 2) - a);
+      const double length = n.norm();
+      normals.row(f) = length > 0.0 ? Eigen::RowVector3d(n.transpose() / length) : Eigen::RowVector3d::Zero();
+    }
+  });
   return normals;
 }
 
@@ -39,13 +59,11 @@ Eigen::VectorXd face_areas(const Positions& positions, const Triangles& triangle
   return areas;
 }
 
-std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference) {
-  std::vector<Eigen::Index> faces;
-  for (Eigen::Index f = 0; f < normals.rows(); ++f) {
-    if (reference.row(f).squaredNorm() == 0.0) continue;
-    if (normals.row(f).dot(reference.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0) faces.push_back(f);
-  }
-  return faces;
+std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference, SpareCores* spare) {
+  return picked_items(normals.rows(), spare, [&](Eigen::Index f) {
+    return reference.row(f).squaredNorm() != 0.0 &&
+           (normals.row(f).dot(reference.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0);
+  });
 }
 
 double average_edge_length(const Positions& positions, const Triangles& triangles) {
@@ -93,39 +111,74 @@ inline void turn(AngleProduct& product, double c, double s) {
   product.im = im;
 }
 
+// The cosines and sines of face f's corner angles, corner by corner; false
+// where an edge has collapsed, which makes every corner angle 0 (atan2(0,
+// 0)): no turn. A triangle needs just its edge lengths, one cross product
+// and three dots: cos and sin of a corner are u.w and |u x w| (the same for
+// all three corners) over |u| |w|.
+inline bool corner_turns(const Positions& positions, const Triangles& triangles, Eigen::Index f, double* cosines,
+                         double* sines) {
+  const Eigen::Vector3d p[3] = {corner(positions, triangles, f, 0), corner(positions, triangles, f, 1),
+                                corner(positions, triangles, f, 2)};
+  // Edge k runs from corner k to corner k + 1.
+  const Eigen::Vector3d e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};
+  const double length[3] = {e[0].norm(), e[1].norm(), e[2].norm()};
+  if (!(length[0] > 0.0 && length[1] > 0.0 && length[2] > 0.0)) return false;
+  const double inverse[3] = {1.0 / length[0], 1.0 / length[1], 1.0 / length[2]};
+  const double sine_area = e[0].cross(e[2]).norm();  // |u x w| at every corner
+  for (int c = 0; c < 3; ++c) {
+    // Corner c: u = e[c], w = -e[c + 2].
+    const int back = (c + 2) % 3;
+    const double scale = inverse[c] * inverse[back];
+    cosines[c] = -e[c].dot(e[back]) * scale;
+    sines[c] = sine_area * scale;
+  }
+  return true;
+}
+
 }  // namespace
 
-Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles,
-                              const std::vector<bool>& interior) {
+Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles, const std::vector<bool>& interior,
+                              SpareCores* spare) {
   // Each corner turns its vertex's running product by the corner angle, so
-  // a vertex needs one atan2 instead of one per corner. A triangle needs
-  // just its edge lengths, one cross product and three dots: cos and sin of
-  // a corner are u.w and |u x w| (the same for all three corners) over
-  // |u| |w|. Agrees with summing per-corner atan2 to ~1e-15 rad.
+  // a vertex needs one atan2 instead of one per corner. Agrees with summing
+  // per-corner atan2 to ~1e-15 rad.
+  const Eigen::Index faces = triangles.rows();
   std::vector<AngleProduct> products(static_cast<size_t>(positions.rows()));
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    const Eigen::Vector3d p[3] = {corner(positions, triangles, f, 0), corner(positions, triangles, f, 1),
-                                  corner(positions, triangles, f, 2)};
-    // Edge k runs from corner k to corner k + 1.
-    const Eigen::Vector3d e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};
-    const double length[3] = {e[0].norm(), e[1].norm(), e[2].norm()};
-    // A collapsed edge makes every corner angle 0 (atan2(0, 0)): no turn.
-    if (!(length[0] > 0.0 && length[1] > 0.0 && length[2] > 0.0)) continue;
-    const double inverse[3] = {1.0 / length[0], 1.0 / length[1], 1.0 / length[2]};
-    const double sine_area = e[0].cross(e[2]).norm();  // |u x w| at every corner
-    for (int c = 0; c < 3; ++c) {
-      // Corner c: u = e[c], w = -e[c + 2].
-      const int back = (c + 2) % 3;
-      const double scale = inverse[c] * inverse[back];
-      turn(products[static_cast<size_t>(triangles(f, c))], -e[c].dot(e[back]) * scale, sine_area * scale);
+  const CoreLease lease(faces > kChunk ? spare : nullptr, 7);
+  if (lease.threads() == 1) {
+    for (Eigen::Index f = 0; f < faces; ++f) {
+      double cosines[3], sines[3];
+      if (!corner_turns(positions, triangles, f, cosines, sines)) continue;
+      for (int c = 0; c < 3; ++c) turn(products[static_cast<size_t>(triangles(f, c))], cosines[c], sines[c]);
+    }
+  } else {
+    // On spare cores the corners are found face by face, then turned in face
+    // order on this thread (a product's bits depend on the order); the
+    // buffers only then, as several polishes measure at once.
+    std::vector<double> cosines(static_cast<size_t>(3 * faces)), sines(static_cast<size_t>(3 * faces));
+    std::vector<char> turns(static_cast<size_t>(faces));
+    parallel_for(faces, kChunk, lease.threads(), [&](Eigen::Index begin, Eigen::Index end) {
+      for (Eigen::Index f = begin; f < end; ++f)
+        turns[static_cast<size_t>(f)] = corner_turns(positions, triangles, f, &cosines[static_cast<size_t>(3 * f)],
+                                                     &sines[static_cast<size_t>(3 * f)]);
+    });
+    for (Eigen::Index f = 0; f < faces; ++f) {
+      if (!turns[static_cast<size_t>(f)]) continue;
+      for (int c = 0; c < 3; ++c) {
+        const auto at = static_cast<size_t>(3 * f + c);
+        turn(products[static_cast<size_t>(triangles(f, c))], cosines[at], sines[at]);
+      }
     }
   }
   Eigen::VectorXd defects = Eigen::VectorXd::Zero(positions.rows());
-  for (Eigen::Index v = 0; v < positions.rows(); ++v) {
-    if (!interior[static_cast<size_t>(v)]) continue;
-    const AngleProduct& product = products[static_cast<size_t>(v)];
-    defects[v] = -std::atan2(product.im, product.re) - 2.0 * M_PI * (product.wraps - 1);
-  }
+  parallel_for(positions.rows(), kChunk, lease.threads(), [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index v = begin; v < end; ++v) {
+      if (!interior[static_cast<size_t>(v)]) continue;
+      const AngleProduct& product = products[static_cast<size_t>(v)];
+      defects[v] = -std::atan2(product.im, product.re) - 2.0 * M_PI * (product.wraps - 1);
+    }
+  });
   return defects;
 }
 
@@ -191,22 +244,27 @@ bool wider_than(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b, double
 
 }  // namespace
 
-std::vector<Eigen::Index> CreaseGuard::creased_faces(const Normals& normals) const {
+std::vector<Eigen::Index> CreaseGuard::creased_faces(const Normals& normals, SpareCores* spare) const {
+  const std::vector<Eigen::Index> creased =
+      picked_items(static_cast<Eigen::Index>(edges_.size()), spare, [&](Eigen::Index k) {
+        const Edge& e = edges_[static_cast<size_t>(k)];
+        return wider_than(normals.row(e.f), normals.row(e.g), e.limit_cosine);
+      });
   std::vector<Eigen::Index> faces;
-  for (const Edge& e : edges_)
-    if (wider_than(normals.row(e.f), normals.row(e.g), e.limit_cosine)) {
-      faces.push_back(e.f);
-      faces.push_back(e.g);
-    }
+  for (const Eigen::Index k : creased) {
+    faces.push_back(edges_[static_cast<size_t>(k)].f);
+    faces.push_back(edges_[static_cast<size_t>(k)].g);
+  }
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
   return faces;
 }
 
-std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard) {
-  std::vector<Eigen::Index> faces = turned_over_faces(normals, reference);
+std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard,
+                                       SpareCores* spare) {
+  std::vector<Eigen::Index> faces = turned_over_faces(normals, reference, spare);
   if (!guard.active()) return faces;
-  const std::vector<Eigen::Index> creased = guard.creased_faces(normals);
+  const std::vector<Eigen::Index> creased = guard.creased_faces(normals, spare);
   faces.insert(faces.end(), creased.begin(), creased.end());
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
@@ -214,9 +272,10 @@ std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& re
 }
 
 bool put_back_folded_corners(Positions& positions, const Positions& fallback, const Triangles& triangles,
-                             const Normals& reference, const CreaseGuard& guard, int rounds) {
+                             const Normals& reference, const CreaseGuard& guard, int rounds, SpareCores* spare) {
   for (int round = 0;; ++round) {
-    const std::vector<Eigen::Index> folded = folded_faces(face_normals(positions, triangles), reference, guard);
+    const std::vector<Eigen::Index> folded =
+        folded_faces(face_normals(positions, triangles, spare), reference, guard, spare);
     if (folded.empty()) return true;
     if (round == rounds) return false;
     for (Eigen::Index f : folded)

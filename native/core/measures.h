@@ -2,6 +2,7 @@
 // per-face quantities the later stages use.
 #pragma once
 
+#include "core/concurrent_jobs.h"
 #include "core/mesh_connectivity.h"
 #include "core/types.h"
 
@@ -25,7 +26,10 @@ inline constexpr double kRuledSpread = 0.02;
 
 // Unit normal of each triangle (right-handed in the triangle's vertex order).
 // A zero-area triangle gets the zero vector.
-Normals face_normals(const Positions& positions, const Triangles& triangles);
+//   spare: null, or cores to share the faces out to while they are spare
+//   (concurrent_jobs.h); the same result whatever it takes. So for the
+//   other measures that take one.
+Normals face_normals(const Positions& positions, const Triangles& triangles, SpareCores* spare = nullptr);
 
 // Centroid of triangle f (the mean of its corners), caller's units.
 inline Eigen::Vector3d face_centroid(const Positions& positions, const Triangles& triangles, Eigen::Index f) {
@@ -44,7 +48,7 @@ double average_edge_length(const Positions& positions, const Triangles& triangle
 // angles at the vertex), in radians, for each interior vertex; 0 for boundary
 // vertices and for vertices no triangle uses (`interior` says which is which).
 Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles,
-                              const std::vector<bool>& interior);
+                              const std::vector<bool>& interior, SpareCores* spare = nullptr);
 
 // How much vertex v's angle defect answers noise on the vertices: the sum,
 // over v and the vertices around it, of the squared length of the gradient
@@ -76,7 +80,8 @@ DefectStats defect_stats(const Eigen::VectorXd& defects, const std::vector<bool>
 // `reference`'s, or zero (collapsed) where the reference's is not; faces
 // whose reference normal is zero are not checked. Ascending face indices.
 //   normals, reference: one row per face (face_normals).
-std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference);
+std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normals& reference,
+                                            SpareCores* spare = nullptr);
 
 // The crease guard: a deformation may bend the surface, but not crumple it.
 // It watches every edge between two faces of one group (a patch; edges on
@@ -97,7 +102,7 @@ class CreaseGuard {
 
   // The faces of the watched edges creased at `normals` (face_normals of
   // the same triangles), ascending and unique.
-  std::vector<Eigen::Index> creased_faces(const Normals& normals) const;
+  std::vector<Eigen::Index> creased_faces(const Normals& normals, SpareCores* spare = nullptr) const;
 
  private:
   struct Edge {
@@ -109,7 +114,8 @@ class CreaseGuard {
 
 // The faces a step must put back: those turned over against `reference`
 // (turned_over_faces) and those `guard` finds creased, ascending and unique.
-std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard);
+std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& reference, const CreaseGuard& guard,
+                                       SpareCores* spare = nullptr);
 
 // Puts the corners of the folded faces of `positions` (folded_faces against
 // `reference` normals and `guard`) back where `fallback` has them, ring by
@@ -117,7 +123,8 @@ std::vector<Eigen::Index> folded_faces(const Normals& normals, const Normals& re
 // whether no face is left folded. Where `fallback` folds nothing, enough
 // rounds always succeed (each puts back at least one more vertex).
 bool put_back_folded_corners(Positions& positions, const Positions& fallback, const Triangles& triangles,
-                             const Normals& reference, const CreaseGuard& guard, int rounds);
+                             const Normals& reference, const CreaseGuard& guard, int rounds,
+                             SpareCores* spare = nullptr);
 
 // Roughness of the normal field: the mean over the faces of the angle (rad)
 // between a face's unit normal and the normalised sum of its own and its

@@ -1,10 +1,10 @@
 #include "deformation/defect_polish.h"
 
 #include "core/measures.h"
+#include "deformation/conjugate_gradients.h"
 #include "deformation/move_limit.h"
 
 #include <Eigen/Geometry>
-#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
@@ -273,7 +273,8 @@ class NormalMatrix {
 // not like any other.
 class DampedSystem {
  public:
-  explicit DampedSystem(Eigen::Index direct_rows) : direct_rows_(direct_rows) {}
+  // spare: the cores the conjugate gradients' products may take, or null.
+  DampedSystem(Eigen::Index direct_rows, SpareCores* spare) : direct_rows_(direct_rows), spare_(spare) {}
 
   // Factors (or prepares) `matrix`, which must outlive the system and keep
   // its values until the next compute; false on failure.
@@ -287,10 +288,8 @@ class DampedSystem {
       direct_.factorize(matrix);
       return direct_.info() == Eigen::Success;
     }
-    iterative_.setMaxIterations(iterative_steps_);
-    iterative_.setTolerance(kIterativeTolerance);
     iterative_.compute(matrix);
-    return iterative_.info() == Eigen::Success;
+    return true;
   }
 
   // Whether the last compute chose conjugate gradients.
@@ -301,13 +300,12 @@ class DampedSystem {
   bool refine() {
     if (!iterative() || iterative_steps_ >= kMostIterativeSteps) return false;
     iterative_steps_ = std::min(kIterativeGrowth * iterative_steps_, kMostIterativeSteps);
-    iterative_.setMaxIterations(iterative_steps_);
     return true;
   }
 
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
     if (rows_ <= direct_rows_) return direct_.solve(rhs);
-    return iterative_.solve(rhs);
+    return iterative_.solve(rhs, iterative_steps_, kIterativeTolerance, spare_);
   }
 
  private:
@@ -315,7 +313,8 @@ class DampedSystem {
   Eigen::Index rows_ = 0;
   int iterative_steps_ = kIterativeSteps;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> direct_;
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> iterative_;
+  SpareCores* spare_;
+  ConjugateGradients iterative_;
   bool analysed_ = false;
 };
 
@@ -394,7 +393,7 @@ class RegionPolish {
         free_of_(static_cast<size_t>(n_), -1),
         row_of_(static_cast<size_t>(n_), -1),
         crease_guard_(triangles, reference_normals, options.crease_groups, options.crease_growth),
-        system_(options.direct_rows),
+        system_(options.direct_rows, options.spare_cores),
         current_(start) {
     for (Eigen::Index v = 0; v < n_; ++v)
       if (region.moves[static_cast<size_t>(v)]) free_of_[static_cast<size_t>(v)] = static_cast<int>(free_count_++);
@@ -409,7 +408,8 @@ class RegionPolish {
   bool factor(double mu);
   Positions moved(const Eigen::VectorXd& step, double length) const;
   bool unfold(Positions& trial) const {
-    return put_back_folded_corners(trial, current_, triangles_, reference_normals_, crease_guard_, kRevertRounds);
+    return put_back_folded_corners(trial, current_, triangles_, reference_normals_, crease_guard_, kRevertRounds,
+                                   options_.spare_cores);
   }
   Eigen::VectorXd residual_at(const Eigen::VectorXd& defects) const;
   void pull();
@@ -505,7 +505,7 @@ void RegionPolish::pull() {
     }
     if (!kept) break;
     current_ = std::move(trial);
-    defects_ = angle_defects(current_, triangles_, region_.rows);
+    defects_ = angle_defects(current_, triangles_, region_.rows, options_.spare_cores);
     residual_ = jacobian_->evaluate(current_, defects_);
     ++result_.iterations;
   }
@@ -521,7 +521,7 @@ bool RegionPolish::try_lengths(const Eigen::VectorXd& step) {
     // length (human_woman), and faces a step would crease (the crease
     // guard): their corners keep their place instead, ring by ring.
     if (!unfold(trial_)) continue;
-    trial_defects_ = angle_defects(trial_, triangles_, region_.rows);
+    trial_defects_ = angle_defects(trial_, triangles_, region_.rows, options_.spare_cores);
     trial_energy_ = residual_at(trial_defects_).squaredNorm();
     if (trial_energy_ < energy_) return true;
   }

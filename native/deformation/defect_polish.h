@@ -36,6 +36,7 @@
 // and measured no closer to the noise-free surfaces: docs/method.md).
 #pragma once
 
+#include "core/concurrent_jobs.h"
 #include "core/types.h"
 
 #include <Eigen/Core>
@@ -103,6 +104,10 @@ struct PolishOptions {
   // input"). The give-up bounds and largest_move count from the first step
   // after the pull.
   int pull_steps = 0;
+  // Null, or the run's spare cores: the conjugate gradients' products take
+  // them while they are spare (conjugate_gradients.h); the result is the
+  // same whatever they take.
+  SpareCores* spare_cores = nullptr;
 };
 
 struct PolishResult {

@@ -2,11 +2,11 @@
 
 #include "core/measures.h"
 #include "core/mesh_connectivity.h"
+#include "deformation/conjugate_gradients.h"
 #include "deformation/move_limit.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 
 #include <algorithm>
@@ -314,11 +314,9 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
       // Conjugate gradients, inexact: the line search below judges the step.
       // A sparse Cholesky factor of this 3n system (3x3 blocks over two
       // rings) was four fifths of the run's time (bunny: 31 s in all).
-      Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> solver;
-      solver.setTolerance(kStepTolerance);
-      solver.setMaxIterations(kStepIterations);
+      ConjugateGradients solver;
       solver.compute(normal_matrix);
-      const Eigen::VectorXd step = -solver.solve(gradient);
+      const Eigen::VectorXd step = -solver.solve(gradient, kStepIterations, kStepTolerance, options_.spare_cores);
       if (!step.allFinite()) {
         mu *= kDampingUp;
         continue;
@@ -331,9 +329,11 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
           trial.row(v) += length * step.segment<3>(3 * c).transpose();
           trial.row(v) = within_limit(trial.row(v), reference_.row(v), options_.limit);
         }
-        if (!put_back_folded_corners(trial, current_, triangles_, reference_normals_, guard_, kRevertRounds)) continue;
-        trial_normals = face_normals(trial, triangles_);
-        trial_defects = angle_defects(trial, triangles_, scored_mask_);
+        if (!put_back_folded_corners(trial, current_, triangles_, reference_normals_, guard_, kRevertRounds,
+                                     options_.spare_cores))
+          continue;
+        trial_normals = face_normals(trial, triangles_, options_.spare_cores);
+        trial_defects = angle_defects(trial, triangles_, scored_mask_, options_.spare_cores);
         trial_r = residual(trial, trial_stars, trial_normals, trial_defects);
         if (weighted(trial_r, weights) + fit_energy(trial) < energy) {
           kept = true;

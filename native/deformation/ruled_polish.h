@@ -38,6 +38,7 @@
 // guard and the clamp hold those.
 #pragma once
 
+#include "core/concurrent_jobs.h"
 #include "core/types.h"
 
 #include <Eigen/Core>
@@ -59,6 +60,9 @@ struct RuledPolishOptions {
   // the last stall_window steps.
   int stall_window = 10;
   double stall_decrease = 0.003;
+  // Null, or the run's spare cores, which the conjugate gradients' products
+  // take while they are spare (conjugate_gradients.h; the same result).
+  SpareCores* spare_cores = nullptr;
 };
 
 struct RuledPolishResult {

@@ -263,7 +263,7 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
         if (start.projected == projected)
           first.push_back(
               [&](const Progress& share) { start.polished = polish_start(run, start, late_options, share); });
-  run_concurrently(first, input.options.threads, progress.sub(0.0, ahead ? 0.9 : 0.6));
+  run_concurrently(first, input.options.threads, progress.sub(0.0, ahead ? 0.9 : 0.6), input.spare_cores);
 
   Contest contest(input, judge.input().figures);
   if (choice.improved) contest.add(choice, false);
@@ -313,7 +313,7 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
       polishes.push_back(
           [&](const Progress& share) { start.polished = polish_start(run, start, bound_options, share); });
     }
-    run_concurrently(polishes, input.options.threads, progress.sub(ahead ? 0.9 : 0.6, 1.0));
+    run_concurrently(polishes, input.options.threads, progress.sub(ahead ? 0.9 : 0.6, 1.0), input.spare_cores);
     for (const Start& start : starts->starts) judge_candidate(start, bound_options.give_up_move);
   }
   const int winner = contest.winner();

@@ -112,7 +112,7 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
   const auto factor = [&](const Progress& share) { deformation.emplace(run, std::move(targets), stats, share); };
   if (polish_enabled(input.options) && smooths_ahead(input.options))
     run_concurrently({factor, [&](const Progress&) { smoothings = smooth_input(run); }}, input.options.threads,
-                     progress.sub(0.08, 0.1));
+                     progress.sub(0.08, 0.1), input.spare_cores);
   else
     factor(progress.sub(0.08, 0.1));
   deformation->iterate(judge, choice, progress);

@@ -24,7 +24,9 @@ PipelineResult run_pipeline(const Positions& positions, const Triangles& triangl
                             const PipelineOptions& options, const Progress& progress) {
   const auto start_time = Clock::now();
   const VertexFaces connectivity = check_input(positions, triangles, pinned, options, progress);
-  const MeasuredInput input = measure_input(positions, triangles, connectivity, pinned, options, start_time);
+  SpareCores spare_cores(options.threads);
+  MeasuredInput input = measure_input(positions, triangles, connectivity, pinned, options, start_time);
+  input.spare_cores = &spare_cores;
   progress.report(0.02, "ideal curve");
   PipelineResult result = run_plan(input, progress.sub(0.02, 0.95));
   result = finish_plan_result(input, std::move(result), progress.sub(0.95, 1.0));

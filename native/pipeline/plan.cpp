@@ -224,7 +224,7 @@ PipelineResult object_alternatives(const MeasuredInput& input, Patches patches, 
        [&](const Progress& share) {
          cones = run_thinned_alternative(input, thinned, PieceSource::segmentation, share);
        }},
-      input.options.threads, progress.sub(0.6, 1.0));
+      input.options.threads, progress.sub(0.6, 1.0), input.spare_cores);
   PipelineResult& chosen = preferred(input, {&split, &creases, &cones});
   chosen.stats.time_total_ms = elapsed_ms(input.start_time);
   return std::move(chosen);

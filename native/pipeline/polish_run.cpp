@@ -99,6 +99,7 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   const MeasuredInput& input = run.input;
   PolishOptions result;
   result.limit = input.limit;
+  result.spare_cores = input.spare_cores;
   result.settled_defect = kSettledShare * input.before.mean_abs;
   // The crease guard goes on with the polish of a deformed result, and on
   // one patch with every polish. The polish of a segmented input (no better

@@ -27,6 +27,7 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
   const Figures start = choice.measured.figures;
   RuledPolishOptions options;
   options.limit = input.limit;
+  options.spare_cores = input.spare_cores;
   options.crease_growth = run.crease_growth;
   options.crease_groups = run.patch_ids;
   options.max_iterations = kRoundSteps;
@@ -57,6 +58,7 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
   PolishOptions exact;
   exact.active_defect = kFlatDefect;
   exact.limit = input.limit;
+  exact.spare_cores = input.spare_cores;
   exact.crease_growth = run.crease_growth;
   exact.crease_groups = run.patch_ids;
   PolishResult polished = polish_defects(positions, input.positions, input.normals, input.triangles, run.scored,

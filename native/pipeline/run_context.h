@@ -3,6 +3,7 @@
 // and the choice so far (the mesh the run would return now).
 #pragma once
 
+#include "core/concurrent_jobs.h"
 #include "core/measures.h"
 #include "core/mesh_connectivity.h"
 #include "core/types.h"
@@ -39,6 +40,9 @@ struct MeasuredInput {
   Eigen::VectorXd areas;     // per face
   bool closed = false;       // every vertex a triangle uses is interior
   bool object = false;       // a whole object, not one sheet (is_object, selection.h)
+  // The run's cores no thread of it works on (concurrent_jobs.h), which the
+  // polishes' products take while they are spare; null: none taken.
+  SpareCores* spare_cores = nullptr;
 };
 
 // Measures the input (stage 2). Throws EngineError(no_interior_vertex),

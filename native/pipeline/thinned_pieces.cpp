@@ -161,6 +161,7 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   RuledPolishOptions ruled;
   ruled.max_iterations = kThinnedPolishIterations;
   ruled.limit = input.limit;
+  ruled.spare_cores = input.spare_cores;
   ruled.crease_growth = kSegmentedCreaseGrowth;
   ruled.crease_groups = out.pieces;
   const RuledPolishResult polished = polish_ruled(out.positions, input.positions, input.normals, input.triangles,

@@ -151,6 +151,59 @@ TEST(ConcurrentJobs, AJobsOwnFailureComesBeforeTheCancelsItCaused) {
 
 // Every item once, in the same chunks whatever the thread count; a loop of
 // one chunk stays on the calling thread.
+TEST(SpareCores, TheCoresBesidesTheCallingThreadsAreSpare) {
+  SpareCores three(3);
+  EXPECT_EQ(three.take(5), 2u);
+  EXPECT_EQ(three.take(1), 0u);
+  three.give_back(2);
+  EXPECT_EQ(three.take(1), 1u);
+  SpareCores one(1);
+  EXPECT_EQ(one.take(1), 0u);
+  one.start_working();  // a thread more than cores: still none
+  one.stop_working();
+  EXPECT_EQ(one.take(1), 0u);
+}
+
+// The long job finds the core of the thread whose job has ended spare,
+// whichever thread ran which; after the run every core but the calling
+// thread's is spare again.
+TEST(SpareCores, AThreadWithNoJobLeftLeavesItsCoreSpare) {
+  SpareCores spare(2);
+  std::atomic<bool> short_done{false};
+  std::atomic<unsigned> taken_while_both_work{0};
+  std::atomic<unsigned> taken{0};
+  const Job long_job = [&](const Progress&) {
+    while (!short_done) std::this_thread::yield();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (taken == 0 && std::chrono::steady_clock::now() < deadline) {
+      taken = spare.take(1);
+      std::this_thread::yield();
+    }
+    spare.give_back(taken);
+  };
+  const Job short_job = [&](const Progress&) {
+    taken_while_both_work = spare.take(1);
+    spare.give_back(taken_while_both_work);
+    short_done = true;
+  };
+  run_concurrently({long_job, short_job}, 2, Progress{}, &spare);
+  EXPECT_EQ(taken_while_both_work, 0u);
+  EXPECT_EQ(taken, 1u);
+  EXPECT_EQ(spare.take(2), 1u) << "after the run, the calling thread's core only is busy";
+}
+
+TEST(ParallelFor, OnSpareCoresEveryItemOnceAndTheCoresGivenBack) {
+  for (int threads : {1, 2, 4}) {
+    SpareCores spare(threads);
+    std::vector<int> hits(1000, 0);
+    parallel_for(1000, 64, &spare, [&](Eigen::Index begin, Eigen::Index end) {
+      for (Eigen::Index i = begin; i < end; ++i) ++hits[static_cast<size_t>(i)];
+    });
+    for (int h : hits) EXPECT_EQ(h, 1);
+    EXPECT_EQ(spare.take(8), static_cast<unsigned>(threads - 1));
+  }
+}
+
 TEST(ParallelFor, EveryItemOnceInTheSameChunks) {
   for (int threads : {0, 1, 2, 3, 8}) {
     std::vector<int> visits(1000, 0);

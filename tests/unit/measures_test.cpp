@@ -154,6 +154,43 @@ TEST(Measures, CreaseGuardReportsTheFacesOfEdgesThatSharpened) {
   EXPECT_FALSE(CreaseGuard(m.triangles, flat, {}, 0.0).active());
 }
 
+// The measures that share their faces out to spare cores give, on several
+// chunks of faces and any number of cores, what they give on the calling
+// thread alone; the turned and creased faces are those a face-by-face look
+// finds, ascending; a collapsed face turns no corner.
+TEST(Measures, OnSpareCoresTheSameBitForBit) {
+  auto m = test::plane(120, 110);  // 26k faces: several chunks
+  const Normals flat = face_normals(m.positions, m.triangles);
+  const auto interior = interior_vertices(m.positions, m.triangles);
+  std::mt19937 random(11);
+  std::normal_distribution<double> noise(0.0, 0.4);
+  Positions noisy = m.positions;
+  for (Eigen::Index v = 0; v < noisy.rows(); ++v) noisy(v, 2) += noise(random) / 120.0;
+  noisy.row(m.triangles(500, 1)) = noisy.row(m.triangles(500, 0));           // a collapsed face
+  for (Eigen::Index v = 0; v < noisy.rows(); v += 997) noisy(v, 2) += 0.05;  // steep spikes: creases, turned faces
+  const CreaseGuard guard(m.triangles, flat, {}, 20.0 * M_PI / 180.0);
+
+  const Normals normals = face_normals(noisy, m.triangles);
+  const Eigen::VectorXd defects = angle_defects(noisy, m.triangles, interior);
+  const std::vector<Eigen::Index> turned = turned_over_faces(normals, flat);
+  const std::vector<Eigen::Index> creased = guard.creased_faces(normals);
+  std::vector<Eigen::Index> turned_one_by_one;
+  for (Eigen::Index f = 0; f < normals.rows(); ++f)
+    if (normals.row(f).dot(flat.row(f)) < 0.0 || normals.row(f).squaredNorm() == 0.0) turned_one_by_one.push_back(f);
+  EXPECT_EQ(turned, turned_one_by_one);
+  ASSERT_FALSE(turned.empty());
+  ASSERT_FALSE(creased.empty());
+  EXPECT_TRUE(std::is_sorted(creased.begin(), creased.end()));
+  for (int threads : {2, 3, 8}) {
+    SpareCores spare(threads);
+    EXPECT_TRUE(face_normals(noisy, m.triangles, &spare) == normals) << threads;
+    EXPECT_TRUE(angle_defects(noisy, m.triangles, interior, &spare) == defects) << threads;
+    EXPECT_EQ(turned_over_faces(normals, flat, &spare), turned) << threads;
+    EXPECT_EQ(guard.creased_faces(normals, &spare), creased) << threads;
+    EXPECT_EQ(spare.take(8), static_cast<unsigned>(threads - 1)) << "every core given back";
+  }
+}
+
 // normal_roughness: zero on a plane, the cylinder's own from its curvature,
 // raised by noise, the same at any scale.
 TEST(Measures, NormalRoughnessIsZeroFlatAndGrowsWithNoise) {

@@ -173,8 +173,14 @@ def main():
     sizes = [int(s) for s in args.sizes.split(",")]
     md, raw = pathlib.Path(args.md), pathlib.Path(args.json)
     rows = []
+    info = machine_info()
     if (args.keep or args.render) and raw.exists():
-        rows = [r for r in json.loads(raw.read_text())["rows"] if args.render or r["size"] not in sizes]
+        old = json.loads(raw.read_text())
+        rows = [r for r in old["rows"] if args.render or r["size"] not in sizes]
+        for r in rows:
+            r.setdefault("run", old["machine"]["date"])  # rows written before runs were dated
+        if args.render:
+            info = old["machine"]
     print(HEADER, flush=True)
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
@@ -203,6 +209,7 @@ def main():
                 "crumpled": stats["crumpled_share_after"],
                 "twin_max": twin[0],
                 "twin_rms": twin[1],
+                "run": info["date"],
             }
             rows.append(row)
             print(table_row(row), flush=True)
@@ -221,7 +228,8 @@ def main():
             % (kind, fits[kind]["at_1e5"], fit[1], min(ratios), max(ratios))
         )
     print("\n".join(lines))
-    info = json.loads(raw.read_text())["machine"] if args.render else machine_info()
+    runs = sorted({(r["size"], r["run"]) for r in rows})
+    dated = "; ".join("%d faces: %s" % (size, date) for size, date in runs)
     intro = [
         "# Meshes a user brings: noisy scans (written by bench/scans.py)",
         "",
@@ -231,8 +239,9 @@ def main():
         "threads; wall seconds and stage times (wall) depend on what else ran. *To twin*: the largest and rms "
         "vertex distance to the noise-free surface after the run, each over the input's (1.00: as far from "
         "the true shape as the scan; below 1: noise removed). What the figures mean for the method: "
-        "docs/method.md, Known limits. Last run: %s, %s, %d cores, load at the start %s."
-        % (info["date"], info["cpu"], info["cores"], info["load_start"]),
+        "docs/method.md, Known limits. Last run: %s, %s, %d cores, load at the start %s. Rows by size (a "
+        "run may keep other sizes' rows, --keep): %s."
+        % (info["date"], info["cpu"], info["cores"], info["load_start"], dated),
         "",
     ]
     table = [HEADER, "|" + "---|" * (HEADER.count("|") - 1)] + [table_row(r) for r in rows]

@@ -151,18 +151,22 @@ Positions projection_start(const PatchRun& run, Positions start) {
 struct SmoothedStarts {
   std::vector<Start> starts;
   double smoothing_move = 0.0;  // RMS from the input
-  Positions smoothed;           // the smoothing, for its roughness
+  // The guarded smoothing, for its roughness: the first start where one is
+  // made of it, else kept here (not copied: 12 MB at 1M faces).
+  std::optional<Positions> unstarted_smoothing;
+  const Positions& smoothing() const { return unstarted_smoothing ? *unstarted_smoothing : starts.front().positions; }
 };
 
 SmoothedStarts smoothed_starts(const PatchRun& run, InputSmoothings smoothings, std::optional<Positions> stepped) {
   const MeasuredInput& input = run.input;
   SmoothedStarts out;
   out.smoothing_move = motion_of(smoothings.guarded, input.positions).rms;
-  out.smoothed = smoothings.guarded;
   if (stepped) {
     out.starts.push_back({std::move(smoothings.guarded), ResultOrigin::smoothed_input_polish, out.smoothing_move, {}});
     const double stepped_move = motion_of(*stepped, input.positions).rms;
     out.starts.push_back({std::move(*stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
+  } else {
+    out.unstarted_smoothing = std::move(smoothings.guarded);
   }
   // The projection, on sheets (one patch, or pieces cut at creases, smoothed
   // each on its own; a segmented object's patch borders are not its
@@ -185,7 +189,7 @@ std::vector<bool> enter_starts(const PatchRun& run, const SmoothedStarts& smooth
   const MeasuredInput& input = run.input;
   if (contest.bound() > kShapeChangeMove * smoothed.smoothing_move)
     contest.set_shape_roughness(
-        normal_roughness(face_normals(smoothed.smoothed, input.triangles), input.triangles, input.connectivity));
+        normal_roughness(face_normals(smoothed.smoothing(), input.triangles), input.triangles, input.connectivity));
   const double bound = contest.bound();
   const bool same_start = smoothed.smoothing_move < kSameStartShare * bound;
   std::vector<bool> entered;

@@ -23,6 +23,11 @@ constexpr double kConeWidth = 2.0;
 // face sweeps its own list, the faces split among the threads. The same
 // targets bit for bit either way.
 constexpr unsigned kPairSweepThreads = 2;
+// Faces whose pairs are weighed at once on spare cores before this thread
+// sums them (a buffer of about 30 weights a face).
+constexpr Eigen::Index kPairBlock = 8192;
+// The weight of a pair outside the cone (weights are never negative).
+constexpr double kOutsideCone = -1.0;
 
 }  // namespace
 
@@ -81,7 +86,7 @@ GaussThinning::GaussThinning(const Positions& positions, const Triangles& triang
   }
 }
 
-Normals GaussThinning::targets(const Normals& normals, double cone, int threads) const {
+Normals GaussThinning::targets(const Normals& normals, double cone, int threads, SpareCores* spare) const {
   const Eigen::Index m = static_cast<Eigen::Index>(offsets_.size()) - 1;
   if (normals.rows() != m) throw EngineError(Status::internal_error, "gauss thinning: one normal per face");
   if (!(cone > 0.0)) throw EngineError(Status::invalid_argument, "gauss thinning: the cone must be positive");
@@ -123,17 +128,47 @@ Normals GaussThinning::targets(const Normals& normals, double cone, int threads)
   // Each pair once: the pair (f, g), f <= g, adds to f's moments and to
   // g's. f's terms still come in ascending order of the neighbour (those of
   // e < f when e was visited, then its own sweep), so every sum is the one
-  // above, bit for bit, at half the acos and exp.
+  // above, bit for bit, at half the acos and exp. On spare cores the pairs'
+  // weights (the acos and exp, most of the time) are found block by block
+  // beforehand, and this thread sums them in the same order.
   std::vector<Eigen::Matrix3d> moments(static_cast<size_t>(m), Eigen::Matrix3d::Zero());
-  for (Eigen::Index f = 0; f < m; ++f) {
+  const auto pair_weight = [&](Eigen::Index f, int g) {
     const Eigen::Vector3d n = normals.row(f).transpose();
-    for (const int* g = std::lower_bound(begin(f), end(f), static_cast<int>(f)); g != end(f); ++g) {
-      const Eigen::Vector3d ng = normals.row(*g).transpose();
-      const double c = std::clamp(n.dot(ng), -1.0, 1.0);
-      if (c < cos_cone) continue;
-      const double w = weight(c);
-      moments[static_cast<size_t>(f)].noalias() += w * ng * ng.transpose();
-      if (*g != f) moments[static_cast<size_t>(*g)].noalias() += w * n * n.transpose();
+    const Eigen::Vector3d ng = normals.row(g).transpose();
+    const double c = std::clamp(n.dot(ng), -1.0, 1.0);
+    return c < cos_cone ? kOutsideCone : weight(c);
+  };
+  const auto add_pair = [&](Eigen::Index f, int g, double w) {
+    if (w == kOutsideCone) return;
+    const Eigen::Vector3d n = normals.row(f).transpose();
+    const Eigen::Vector3d ng = normals.row(g).transpose();
+    moments[static_cast<size_t>(f)].noalias() += w * ng * ng.transpose();
+    if (g != f) moments[static_cast<size_t>(g)].noalias() += w * n * n.transpose();
+  };
+  const auto own_half = [&](Eigen::Index f) { return std::lower_bound(begin(f), end(f), static_cast<int>(f)); };
+  const CoreLease lease(m > kChunk ? spare : nullptr, 7);
+  if (lease.threads() == 1) {
+    for (Eigen::Index f = 0; f < m; ++f)
+      for (const int* g = own_half(f); g != end(f); ++g) add_pair(f, *g, pair_weight(f, *g));
+  } else {
+    std::vector<size_t> first_weight;
+    std::vector<double> weights;
+    for (Eigen::Index block = 0; block < m; block += kPairBlock) {
+      const Eigen::Index block_end = std::min(m, block + kPairBlock);
+      first_weight.assign(1, 0);
+      for (Eigen::Index f = block; f < block_end; ++f)
+        first_weight.push_back(first_weight.back() + static_cast<size_t>(end(f) - own_half(f)));
+      weights.resize(first_weight.back());
+      parallel_for(block_end - block, kChunk, lease.threads(), [&](Eigen::Index first, Eigen::Index last) {
+        for (Eigen::Index k = first; k < last; ++k) {
+          size_t at = first_weight[static_cast<size_t>(k)];
+          for (const int* g = own_half(block + k); g != end(block + k); ++g) weights[at++] = pair_weight(block + k, *g);
+        }
+      });
+      for (Eigen::Index f = block; f < block_end; ++f) {
+        size_t at = first_weight[static_cast<size_t>(f - block)];
+        for (const int* g = own_half(f); g != end(f); ++g) add_pair(f, *g, weights[at++]);
+      }
     }
   }
   parallel_for(m, kChunk, threads, [&](Eigen::Index first, Eigen::Index last) {

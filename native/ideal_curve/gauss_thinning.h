@@ -19,6 +19,7 @@
 // fit per face and needs no patches (docs/method.md, "Thinned pieces").
 #pragma once
 
+#include "core/concurrent_jobs.h"
 #include "core/types.h"
 
 #include <Eigen/Core>
@@ -42,8 +43,10 @@ class GaussThinning {
   // (one row per face) and a cone half-angle `cone` (rad, > 0): each face's
   // normal projected onto the great circle of its neighbours within the
   // cone. A face whose normal is the circle's axis (no projection defined)
-  // keeps its normal. threads: 0 one per core; the result does not depend on it.
-  Normals targets(const Normals& normals, double cone, int threads = 0) const;
+  // keeps its normal. threads: 0 one per core; spare: null, or cores to weigh
+  // the pairs on while they are spare (up to two threads, where each pair is
+  // weighed once). The result depends on neither.
+  Normals targets(const Normals& normals, double cone, int threads = 0, SpareCores* spare = nullptr) const;
 
   // Neighbours of face f, itself included, ascending.
   const int* begin(Eigen::Index f) const { return neighbours_.data() + offsets_[static_cast<size_t>(f)]; }

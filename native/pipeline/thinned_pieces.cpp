@@ -104,7 +104,7 @@ void thin(const MeasuredInput& input, NormalGuidedDeformation& deformation, cons
   Normals normals = face_normals(current, input.triangles);
   for (int it = 0; it < iterations; ++it) {
     progress.report(static_cast<double>(it) / iterations, "thinning");
-    deformation.set_targets(thinning.targets(normals, cone, input.options.threads));
+    deformation.set_targets(thinning.targets(normals, cone, input.options.threads, input.spare_cores));
     cone = std::max(cone * kThinningConeShrink, kThinningConeEnd);
     Positions next = deformation.step(current, normals);
     clamp_moves(next, input.positions, kThinningLimitShare * input.limit);

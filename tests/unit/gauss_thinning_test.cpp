@@ -124,6 +124,25 @@ TEST(GaussThinning, TargetsAreTheDefinitionsBitForBit) {
   }
 }
 
+// On spare cores the pairs are weighed block by block beforehand: the same
+// targets bit for bit, over several blocks, whatever the cores taken.
+TEST(GaussThinning, OnSpareCoresTheSameTargets) {
+  test::Mesh m = test::sphere(6);  // 32768 faces: four blocks
+  std::srand(3);
+  for (Eigen::Index v = 0; v < m.positions.rows(); ++v)
+    m.positions.row(v) *= 1.0 + 0.01 * (static_cast<double>(std::rand()) / RAND_MAX - 0.5);
+  const Normals normals = face_normals(m.positions, m.triangles);
+  const GaussThinning thinning(m.positions, m.triangles, 3.0 * average_edge_length(m.positions, m.triangles), {});
+  for (const double cone : {0.1, 0.44}) {
+    const Normals alone = thinning.targets(normals, cone, 1);
+    for (const int cores : {2, 3}) {
+      SpareCores spare(cores);
+      EXPECT_TRUE(thinning.targets(normals, cone, 2, &spare) == alone) << cores;
+      EXPECT_EQ(spare.take(8), static_cast<unsigned>(cores - 1)) << "every core given back";
+    }
+  }
+}
+
 TEST(GaussThinning, RefusesBadArguments) {
   const test::Mesh m = test::plane(4, 4);
   EXPECT_THROW(GaussThinning(m.positions, m.triangles, 0.0, {}), EngineError);

@@ -90,9 +90,14 @@ def test_least_motions_candidates_polished_at_once_give_one_result(make, monkeyp
     assert len(digests) == 1
 
 
-def test_segmented_runs_repeat_bit_for_bit(meshes_dir):
+def test_segmented_runs_repeat_bit_for_bit(meshes_dir, monkeypatch):
+    """A whole object (segmented, thinned alone on one core, then its two
+    alternatives side by side): the same on one thread as on every core,
+    where spare cores take the thinning's pair weights and the polishes'
+    products (concurrent_jobs.h, SpareCores)."""
     positions, triangles = read_obj(meshes_dir / "human_woman.obj")
     a = native.run(positions, triangles, params={"max_iterations": 30})
+    monkeypatch.setenv("DEVELOPABLE_THREADS", "1")
     b = native.run(positions, triangles, params={"max_iterations": 30})
     assert a.stats["patches"] > 1 and a.stats["result"] == native.RESULT_IMPROVED
     assert digest(a.positions) == digest(b.positions)

@@ -187,7 +187,7 @@ void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,
   chunk = std::max<Eigen::Index>(chunk, 1);
   const Eigen::Index chunks = (count + chunk - 1) / chunk;
   const unsigned cores = thread_count(threads);
-  const auto workers = static_cast<size_t>(std::min<Eigen::Index>(std::min(cores, 8u), chunks));
+  const auto workers = static_cast<size_t>(std::min<Eigen::Index>(std::min(cores, kMostLoopThreads), chunks));
   std::vector<std::exception_ptr> errors(static_cast<size_t>(chunks));
   std::atomic<Eigen::Index> next{0};
   const auto work = [&] {
@@ -216,7 +216,8 @@ void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,
 void parallel_for(Eigen::Index count, Eigen::Index chunk, SpareCores* spare,
                   const std::function<void(Eigen::Index, Eigen::Index)>& body) {
   const Eigen::Index chunks = (count + std::max<Eigen::Index>(chunk, 1) - 1) / std::max<Eigen::Index>(chunk, 1);
-  const CoreLease lease(chunks > 1 ? spare : nullptr, static_cast<unsigned>(std::min<Eigen::Index>(chunks - 1, 7)));
+  const CoreLease lease(chunks > 1 ? spare : nullptr,
+                        static_cast<unsigned>(std::min<Eigen::Index>(chunks - 1, kMostLoopThreads - 1)));
   parallel_for(count, chunk, lease.threads(), body);
 }
 

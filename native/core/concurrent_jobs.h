@@ -30,6 +30,9 @@ namespace developable {
 
 using Job = std::function<void(const Progress&)>;
 
+// The most threads parallel_for runs a loop on, the calling one included.
+inline constexpr unsigned kMostLoopThreads = 8;
+
 // The cores of a run that none of its threads is working on. Work that can
 // share out over more cores (a polish's products) takes one only while it
 // would idle: least motion's candidates run one to a core, and once the
@@ -78,7 +81,7 @@ unsigned thread_count(int threads);
 
 // Runs body(begin, end) once for each chunk [k chunk, (k + 1) chunk) of
 // [0, count), the chunks taken in turn by up to `threads` threads (the
-// calling one included; 0: one per core, at most 8). The chunks are fixed
+// calling one included; 0: one per core, at most kMostLoopThreads). The chunks are fixed
 // whatever the thread count, so a body that writes only its own items gives
 // the same result on any number of threads. Loops over a mesh's faces in
 // the iterations use it (the target search, a step's right-hand side); a
@@ -109,7 +112,7 @@ class CoreLease {
 };
 
 // parallel_for on the calling thread and the cores `spare` has spare (as
-// many as the chunks can use, at most 8 threads, given back at the end); on
+// many as the chunks can use, at most kMostLoopThreads threads, given back at the end); on
 // the calling thread alone when `spare` is null or has none. The same result
 // whatever it takes.
 void parallel_for(Eigen::Index count, Eigen::Index chunk, SpareCores* spare,

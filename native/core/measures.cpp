@@ -145,7 +145,7 @@ Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& trian
   // per-corner atan2 to ~1e-15 rad.
   const Eigen::Index faces = triangles.rows();
   std::vector<AngleProduct> products(static_cast<size_t>(positions.rows()));
-  const CoreLease lease(faces > kChunk ? spare : nullptr, 7);
+  const CoreLease lease(faces > kChunk ? spare : nullptr, kMostLoopThreads - 1);
   if (lease.threads() == 1) {
     for (Eigen::Index f = 0; f < faces; ++f) {
       double cosines[3], sines[3];

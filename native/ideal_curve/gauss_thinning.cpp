@@ -146,7 +146,7 @@ Normals GaussThinning::targets(const Normals& normals, double cone, int threads,
     if (g != f) moments[static_cast<size_t>(g)].noalias() += w * n * n.transpose();
   };
   const auto own_half = [&](Eigen::Index f) { return std::lower_bound(begin(f), end(f), static_cast<int>(f)); };
-  const CoreLease lease(m > kChunk ? spare : nullptr, 7);
+  const CoreLease lease(m > kChunk ? spare : nullptr, kMostLoopThreads - 1);
   if (lease.threads() == 1) {
     for (Eigen::Index f = 0; f < m; ++f)
       for (const int* g = own_half(f); g != end(f); ++g) add_pair(f, *g, pair_weight(f, *g));

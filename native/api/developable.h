@@ -176,7 +176,7 @@ typedef struct dev_params {
                       (default: on in DEV_MODE_REFIT, off in DEV_MODE_PAPER), 0 off, 1 on. */
   /* ABI 6: */
   int32_t polish_smoothed_input; /* nonzero: where the polish of the input competes with the
-                                   deformation's result (meshes of up to 25000 scored vertices), the
+                                   deformation's result (least motion, at every size), the
                                    polish of the input with its noise smoothed (local quadric fits),
                                    of that after one deformation step and, on one patch, the input
                                    projected onto developable meshes from its smoothing compete

@@ -4,6 +4,7 @@
 #include "core/mesh_connectivity.h"
 #include "deformation/conjugate_gradients.h"
 #include "deformation/move_limit.h"
+#include "deformation/normal_equations.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -30,7 +31,6 @@ constexpr int kRevertRounds = 20;
 constexpr double kStepTolerance = 1e-2;
 constexpr int kStepIterations = 50;
 
-using Triplet = Eigen::Triplet<double>;
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
 class RuledPolish {
@@ -79,8 +79,9 @@ class RuledPolish {
   }
   std::vector<int> active_columns(const Positions& p, const std::vector<Star>& stars, const Normals& normals,
                                   const Eigen::VectorXd& defects) const;
-  SparseMatrix jacobian(const Positions& p, const std::vector<Star>& stars, const Normals& normals,
-                        const std::vector<int>& column_of, Eigen::Index columns) const;
+  // J of the residual groups at `p` over the active columns, into `equations`.
+  void jacobian(const Positions& p, const std::vector<Star>& stars, const Normals& normals,
+                const std::vector<int>& column_of, Eigen::Index columns, NormalEquations& equations) const;
   size_t group_size(size_t s) const { return 1 + static_cast<size_t>(table_.count(scored_[s])); }
 
   const Positions& reference_;
@@ -206,19 +207,29 @@ std::vector<int> RuledPolish::active_columns(const Positions& p, const std::vect
   return column_of;
 }
 
-SparseMatrix RuledPolish::jacobian(const Positions& p, const std::vector<Star>& stars, const Normals& normals,
-                                   const std::vector<int>& column_of, Eigen::Index columns) const {
-  std::vector<Triplet> entries;
-  const auto add = [&](Eigen::Index row, int vertex, const Eigen::Vector3d& g) {
-    const int c = column_of[static_cast<size_t>(vertex)];
-    if (c < 0) return;
-    for (int k = 0; k < 3; ++k) entries.emplace_back(row, 3 * c + k, g[k]);
+void RuledPolish::jacobian(const Positions& p, const std::vector<Star>& stars, const Normals& normals,
+                           const std::vector<int>& column_of, Eigen::Index columns, NormalEquations& equations) const {
+  // A scored vertex's rows: K_v first, then one ruled row per face. K_v's
+  // entries come from every face, so each face's gradients are found first
+  // and the rows written after, each in the order its entries arise.
+  struct Corner {
+    int vertex;
+    Eigen::Vector3d gradient;
   };
-  Eigen::Index row = 0;
+  std::vector<Corner> k_entries, r_entries;
+  std::vector<size_t> r_end;  // per face: the end of its ruled row's entries
+  const auto add = [&](const Corner& corner) {
+    const int c = column_of[static_cast<size_t>(corner.vertex)];
+    if (c < 0) return;
+    for (int k = 0; k < 3; ++k) equations.add(3 * c + k, corner.gradient[k]);
+  };
+  equations.start(3 * columns);
   for (size_t s = 0; s < scored_.size(); ++s) {
     const Eigen::Index v = scored_[s];
+    k_entries.clear();
+    r_entries.clear();
+    r_end.clear();
     // K_v = 2 pi - sum of v's tip angles (defect_polish.cpp has the gradients).
-    const Eigen::Index k_row = row++;
     size_t k = 0;
     for (const int* f = table_.begin(v); f != table_.end(v); ++f, ++k) {
       int c = 0;
@@ -229,31 +240,37 @@ SparseMatrix RuledPolish::jacobian(const Positions& p, const std::vector<Star>& 
       const Eigen::Vector3d cross = u.cross(w);
       const double length = cross.norm();
       const double share = std::sqrt(std::max(stars[s].tips[k], 0.0) / std::max(stars[s].total, 1e-300));
-      const Eigen::Index r_row = row++;
-      if (!(length > 0.0)) continue;
-      const Eigen::Vector3d n = cross / length;
-      const Eigen::Vector3d grad_b = n.cross(u) / u.squaredNorm();
-      const Eigen::Vector3d grad_d = -n.cross(w) / w.squaredNorm();
-      add(k_row, static_cast<int>(v), options_.defect_weight * -(grad_b + grad_d));
-      add(k_row, b, options_.defect_weight * grad_b);
-      add(k_row, d, options_.defect_weight * grad_d);
-      // d(axis . n_f): the face's corners in its own order (i, j, l).
-      const int i = triangles_(*f, 0), j = triangles_(*f, 1), l = triangles_(*f, 2);
-      const Eigen::Vector3d e1 = (p.row(j) - p.row(i)).transpose(), e2 = (p.row(l) - p.row(i)).transpose();
-      const Eigen::Vector3d nf = normals.row(*f).transpose();
-      const double area2 = e1.cross(e2).norm();
-      if (!(area2 > 0.0)) continue;
-      const Eigen::Vector3d g = (stars[s].axis - stars[s].axis.dot(nf) * nf) / area2;
-      const double weight = options_.ruled_weight * share;
-      const Eigen::Vector3d gj = e2.cross(g), gl = g.cross(e1);
-      add(r_row, i, -weight * (gj + gl));
-      add(r_row, j, weight * gj);
-      add(r_row, l, weight * gl);
+      if (length > 0.0) {
+        const Eigen::Vector3d n = cross / length;
+        const Eigen::Vector3d grad_b = n.cross(u) / u.squaredNorm();
+        const Eigen::Vector3d grad_d = -n.cross(w) / w.squaredNorm();
+        k_entries.push_back({static_cast<int>(v), options_.defect_weight * -(grad_b + grad_d)});
+        k_entries.push_back({b, options_.defect_weight * grad_b});
+        k_entries.push_back({d, options_.defect_weight * grad_d});
+        // d(axis . n_f): the face's corners in its own order (i, j, l).
+        const int i = triangles_(*f, 0), j = triangles_(*f, 1), l = triangles_(*f, 2);
+        const Eigen::Vector3d e1 = (p.row(j) - p.row(i)).transpose(), e2 = (p.row(l) - p.row(i)).transpose();
+        const Eigen::Vector3d nf = normals.row(*f).transpose();
+        const double area2 = e1.cross(e2).norm();
+        if (area2 > 0.0) {
+          const Eigen::Vector3d g = (stars[s].axis - stars[s].axis.dot(nf) * nf) / area2;
+          const double weight = options_.ruled_weight * share;
+          const Eigen::Vector3d gj = e2.cross(g), gl = g.cross(e1);
+          r_entries.push_back({i, -weight * (gj + gl)});
+          r_entries.push_back({j, weight * gj});
+          r_entries.push_back({l, weight * gl});
+        }
+      }
+      r_end.push_back(r_entries.size());
+    }
+    equations.next_row();
+    for (const Corner& corner : k_entries) add(corner);
+    size_t first = 0;
+    for (size_t end : r_end) {
+      equations.next_row();
+      for (; first < end; ++first) add(r_entries[first]);
     }
   }
-  SparseMatrix jac(row, 3 * columns);
-  jac.setFromTriplets(entries.begin(), entries.end());
-  return jac;
 }
 
 RuledPolishResult RuledPolish::run(const Progress& progress) {
@@ -268,6 +285,7 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
   Eigen::VectorXd weights = group_weights(r);
   double mu = kFirstDamping;
   std::vector<double> history;
+  NormalEquations equations;  // its buffers serve every step
   for (int it = 0; it < options_.max_iterations; ++it) {
     progress.report(static_cast<double>(it) / options_.max_iterations, "ruled polish");
     const std::vector<int> column_of = active_columns(current_, stars, normals, defects);
@@ -275,18 +293,16 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
     if (columns <= 0) break;
     // The rows weighted in place (each entry times its row's weight, as
     // weights.asDiagonal() * J computes it, without a second matrix).
-    SparseMatrix jac = jacobian(current_, stars, normals, column_of, columns);
-    for (Eigen::Index k = 0; k < jac.nonZeros(); ++k) jac.valuePtr()[k] *= weights[jac.innerIndexPtr()[k]];
+    jacobian(current_, stars, normals, column_of, columns, equations);
+    equations.scale_rows(weights);
     const Eigen::VectorXd rw = weights.cwiseProduct(r);
-    SparseMatrix normal_matrix = SparseMatrix(jac.transpose() * jac);
-    Eigen::VectorXd gradient = jac.transpose() * rw;
+    SparseMatrix& normal_matrix = equations.normal_matrix();
+    Eigen::VectorXd gradient = equations.transposed_times(rw);
     const double scale = normal_matrix.diagonal().mean();
     // The fit and the damping go onto the diagonal in place (each attempt
     // sets the damping from the undamped values), not onto a copy of the
-    // matrix per attempt; a column no residual reaches gets its entry first.
+    // matrix per attempt; every column has its diagonal entry.
     std::vector<double*> diagonal(static_cast<size_t>(normal_matrix.rows()));
-    for (Eigen::Index c = 0; c < normal_matrix.rows(); ++c) normal_matrix.coeffRef(c, c);
-    normal_matrix.makeCompressed();
     for (Eigen::Index c = 0; c < normal_matrix.rows(); ++c)
       diagonal[static_cast<size_t>(c)] = &normal_matrix.coeffRef(c, c);
     // The fit rows: identity blocks times wF / AE (their Jacobian is diagonal).

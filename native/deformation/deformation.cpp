@@ -177,7 +177,8 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles, con
       formulation_(formulation),
       targets_(targets),
       threads_(threads),
-      free_index_(pinned.size(), -1) {
+      system_(std::make_shared<System>()) {
+  system_->free_index.assign(pinned.size(), -1);
   if (!(omega > 0.0) || !std::isfinite(omega))
     throw EngineError(Status::invalid_argument, "omega must be a positive number");
   if (!(centroid_weight > 0.0) || !std::isfinite(centroid_weight))
@@ -193,11 +194,10 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles, con
   for (Eigen::Index f = 0; f < triangles.rows(); ++f)
     for (int c = 0; c < 3; ++c) used[static_cast<size_t>(triangles(f, c))] = true;
   for (size_t v = 0; v < pinned.size(); ++v)
-    if (used[v] && !pinned[v]) free_index_[v] = static_cast<int>(free_count_++);
-  if (free_count_ == 0)
+    if (used[v] && !pinned[v]) system_->free_index[v] = static_cast<int>(system_->free_count++);
+  if (system_->free_count == 0)
     throw EngineError(Status::no_free_vertex, "every vertex is pinned: there is nothing the deformation may move");
 
-  solver_ = std::make_unique<CholeskySolver>();
   if (formulation_ == Formulation::coupled) {
     factor_coupled();
     return;
@@ -209,11 +209,11 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles, con
   free_free.reserve(static_cast<size_t>(triangles.rows()) * 9);
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
     for (int r = 0; r < 3; ++r) {
-      const int row = free_index_[static_cast<size_t>(triangles(f, r))];
+      const int row = system_->free_index[static_cast<size_t>(triangles(f, r))];
       if (row < 0) continue;
       for (int c = 0; c < 3; ++c) {
         const int v = triangles(f, c);
-        const int col = free_index_[static_cast<size_t>(v)];
+        const int col = system_->free_index[static_cast<size_t>(v)];
         const double value = row_weights_[f] * local(r, c);
         if (col >= 0)
           free_free.emplace_back(row, col, value);
@@ -222,17 +222,17 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles, con
       }
     }
   }
-  free_free_.resize(free_count_, free_count_);
-  free_free_.setFromTriplets(free_free.begin(), free_free.end());
-  free_pinned_.resize(free_count_, n);
-  free_pinned_.setFromTriplets(free_pinned.begin(), free_pinned.end());
-  solver_->compute(free_free_);
-  if (solver_->info() != Eigen::Success)
+  system_->free_free.resize(system_->free_count, system_->free_count);
+  system_->free_free.setFromTriplets(free_free.begin(), free_free.end());
+  system_->free_pinned.resize(system_->free_count, n);
+  system_->free_pinned.setFromTriplets(free_pinned.begin(), free_pinned.end());
+  system_->solver.compute(system_->free_free);
+  if (system_->solver.info() != Eigen::Success)
     throw EngineError(Status::numerical_failure, "factoring the deformation matrix failed");
 }
 
 void NormalGuidedDeformation::factor_coupled() {
-  const Eigen::Index n = static_cast<Eigen::Index>(free_index_.size());
+  const Eigen::Index n = static_cast<Eigen::Index>(system_->free_index.size());
   const Eigen::Matrix3d b = decoupled_rows(centroid_weight_);
   const Eigen::Matrix3d shape = b.transpose() * b;
   Triplets free_free, free_pinned;
@@ -241,11 +241,11 @@ void NormalGuidedDeformation::factor_coupled() {
     const Eigen::Matrix<double, 9, 9> local =
         row_weights_[f] * coupled_normal_block(shape, targets_.row(f).transpose(), omega_);
     for (int r = 0; r < 9; ++r) {
-      const int row_vertex = free_index_[static_cast<size_t>(triangles_(f, r / 3))];
+      const int row_vertex = system_->free_index[static_cast<size_t>(triangles_(f, r / 3))];
       if (row_vertex < 0) continue;
       for (int c = 0; c < 9; ++c) {
         const int v = triangles_(f, c / 3);
-        const int col_vertex = free_index_[static_cast<size_t>(v)];
+        const int col_vertex = system_->free_index[static_cast<size_t>(v)];
         if (col_vertex >= 0)
           free_free.emplace_back(3 * row_vertex + r % 3, 3 * col_vertex + c % 3, local(r, c));
         else
@@ -253,15 +253,15 @@ void NormalGuidedDeformation::factor_coupled() {
       }
     }
   }
-  const bool first = free_free_.nonZeros() == 0;
-  free_free_.resize(3 * free_count_, 3 * free_count_);
-  free_free_.setFromTriplets(free_free.begin(), free_free.end());
-  free_pinned_.resize(3 * free_count_, 3 * n);
-  free_pinned_.setFromTriplets(free_pinned.begin(), free_pinned.end());
+  const bool first = system_->free_free.nonZeros() == 0;
+  system_->free_free.resize(3 * system_->free_count, 3 * system_->free_count);
+  system_->free_free.setFromTriplets(free_free.begin(), free_free.end());
+  system_->free_pinned.resize(3 * system_->free_count, 3 * n);
+  system_->free_pinned.setFromTriplets(free_pinned.begin(), free_pinned.end());
   // The pattern depends only on the mesh and the pins: analyse it once.
-  if (first) solver_->analyzePattern(free_free_);
-  solver_->factorize(free_free_);
-  if (solver_->info() != Eigen::Success)
+  if (first) system_->solver.analyzePattern(system_->free_free);
+  system_->solver.factorize(system_->free_free);
+  if (system_->solver.info() != Eigen::Success)
     throw EngineError(Status::numerical_failure, "factoring the deformation matrix failed");
 }
 
@@ -272,25 +272,33 @@ void NormalGuidedDeformation::set_targets(const Normals& targets) {
   if (formulation_ == Formulation::coupled) factor_coupled();
 }
 
+NormalGuidedDeformation NormalGuidedDeformation::sharing_factor() const {
+  if (!system_ || formulation_ != Formulation::decoupled)
+    throw EngineError(Status::internal_error, "deformation: only a decoupled system's factor can be shared");
+  return NormalGuidedDeformation(*this);
+}
+
+const Eigen::SparseMatrix<double>& NormalGuidedDeformation::system_matrix() const {
+  if (!system_) throw EngineError(Status::internal_error, "deformation: the system was released");
+  return system_->free_free;
+}
+
 void NormalGuidedDeformation::release() {
-  solver_.reset();
-  free_free_ = Eigen::SparseMatrix<double>();
-  free_pinned_ = Eigen::SparseMatrix<double>();
+  system_.reset();
   triangles_ = Triangles();
   row_weights_ = Eigen::VectorXd();
   targets_ = Normals();
   normal_weights_ = Eigen::VectorXd();
-  free_index_ = std::vector<int>();
 }
 
 Positions NormalGuidedDeformation::step(const Positions& current) const {
-  if (!solver_) throw EngineError(Status::internal_error, "deformation: the system was released");
+  if (!system_) throw EngineError(Status::internal_error, "deformation: the system was released");
   if (formulation_ == Formulation::coupled) return step_coupled(current);
   return step_decoupled(current, face_normals(current, triangles_));
 }
 
 Positions NormalGuidedDeformation::step(const Positions& current, const Normals& normals) const {
-  if (!solver_) throw EngineError(Status::internal_error, "deformation: the system was released");
+  if (!system_) throw EngineError(Status::internal_error, "deformation: the system was released");
   if (formulation_ == Formulation::coupled) return step_coupled(current);
   if (normals.rows() != triangles_.rows())
     throw EngineError(Status::internal_error, "deformation: one normal per triangle");
@@ -299,24 +307,24 @@ Positions NormalGuidedDeformation::step(const Positions& current, const Normals&
 
 Positions NormalGuidedDeformation::step_coupled(const Positions& current) const {
   // Right-hand side W A^T c; the normal rows have c = 0 and add nothing.
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(3 * free_count_);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(3 * system_->free_count);
   for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
     const int i = triangles_(f, 0), j = triangles_(f, 1), k = triangles_(f, 2);
     const Eigen::Vector3d pi = vertex(current, i), pj = vertex(current, j), pk = vertex(current, k);
     const Eigen::Vector3d eij = pj - pi, eik = pk - pi, third = centroid_weight_ * (pi + pj + pk) / 9.0;
     const Eigen::Vector3d g[3] = {-eij - eik + third, eij + third, eik + third};
     for (int c = 0; c < 3; ++c) {
-      const int row = free_index_[static_cast<size_t>(triangles_(f, c))];
+      const int row = system_->free_index[static_cast<size_t>(triangles_(f, c))];
       if (row >= 0) rhs.segment<3>(3 * row) += row_weights_[f] * g[c];
     }
   }
   const Eigen::Map<const Eigen::VectorXd> all(current.data(), current.size());
-  rhs -= free_pinned_ * all;  // row-major positions: index 3 v + axis
-  const Eigen::VectorXd x = solver_->solve(rhs);
+  rhs -= system_->free_pinned * all;  // row-major positions: index 3 v + axis
+  const Eigen::VectorXd x = system_->solver.solve(rhs);
   check_finite(x);
   Positions next = current;
-  for (size_t v = 0; v < free_index_.size(); ++v) {
-    const int row = free_index_[v];
+  for (size_t v = 0; v < system_->free_index.size(); ++v) {
+    const int row = system_->free_index[v];
     if (row >= 0) next.row(static_cast<Eigen::Index>(v)) = x.segment<3>(3 * row).transpose();
   }
   return next;
@@ -341,7 +349,7 @@ Positions NormalGuidedDeformation::step_decoupled(const Positions& current, cons
   constexpr Eigen::Index kBlock = 65536, kChunk = 16384;
   const Eigen::Index faces = triangles_.rows();
   Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> rows(std::min(kBlock, faces), 9);
-  Positions rhs = Positions::Zero(free_count_, 3);
+  Positions rhs = Positions::Zero(system_->free_count, 3);
   for (Eigen::Index first = 0; first < faces; first += kBlock) {
     const Eigen::Index last = std::min(faces, first + kBlock);
     parallel_for(last - first, kChunk, threads_, [&](Eigen::Index begin, Eigen::Index end) {
@@ -363,16 +371,16 @@ Positions NormalGuidedDeformation::step_decoupled(const Positions& current, cons
     });
     for (Eigen::Index f = first; f < last; ++f)
       for (int c = 0; c < 3; ++c) {
-        const int row = free_index_[static_cast<size_t>(triangles_(f, c))];
+        const int row = system_->free_index[static_cast<size_t>(triangles_(f, c))];
         if (row >= 0) rhs.row(row) += rows.block<1, 3>(f - first, 3 * c);
       }
   }
-  rhs -= free_pinned_ * current;
-  const Positions x = solve_three_columns(*solver_, rhs);
+  rhs -= system_->free_pinned * current;
+  const Positions x = solve_three_columns(system_->solver, rhs);
   check_finite(x);
   Positions next = current;
-  for (size_t v = 0; v < free_index_.size(); ++v) {
-    const int row = free_index_[v];
+  for (size_t v = 0; v < system_->free_index.size(); ++v) {
+    const int row = system_->free_index[v];
     if (row >= 0) next.row(static_cast<Eigen::Index>(v)) = x.row(row);
   }
   return next;

@@ -112,18 +112,44 @@ class NormalGuidedDeformation {
   // otherwise compute them again; the coupled one ignores them.
   Positions step(const Positions& current, const Normals& normals) const;
 
+  NormalGuidedDeformation(NormalGuidedDeformation&&) = default;
+  NormalGuidedDeformation& operator=(NormalGuidedDeformation&&) = default;
+
+  // A deformation of the same mesh, pins, row weights, omega and centroid
+  // weight, with this one's targets, sharing this one's factorisation
+  // instead of computing it again (decoupled formulation only: its matrix
+  // does not depend on the targets): its steps are those of a deformation
+  // built from the same arguments, bit for bit. The factor is freed when the
+  // last deformation sharing it is released or destroyed; a shared factor is
+  // only read, so deformations sharing it may step on different threads.
+  // Throws EngineError(internal_error) when this one is coupled or released.
+  NormalGuidedDeformation sharing_factor() const;
+
   // Frees the factorisation, the normal matrix and the rest of the system
   // (the largest part of a run's memory after the iterations: 400 MB of a
-  // 1M-face sheet's); a step after it throws EngineError(internal_error),
-  // targets() is empty.
+  // 1M-face sheet's), or this deformation's share of them; a step after it
+  // throws EngineError(internal_error), targets() is empty.
   void release();
 
   // The normal matrix on the free unknowns (n_free x n_free in the decoupled
   // formulation, 3 n_free square in the coupled one), for benchmarks of the
-  // linear solve (bench/solvers.cpp).
-  const Eigen::SparseMatrix<double>& system_matrix() const { return free_free_; }
+  // linear solve (bench/solvers.cpp). Throws EngineError(internal_error)
+  // after release().
+  const Eigen::SparseMatrix<double>& system_matrix() const;
 
  private:
+  // The unknowns, the normal matrix on them, its coupling to the pinned
+  // coordinates and its factorisation: shared by sharing_factor's copies.
+  struct System {
+    std::vector<int> free_index;  // vertex -> unknown number, -1 when pinned
+    Eigen::Index free_count = 0;
+    Eigen::SparseMatrix<double> free_free;    // normal matrix on the free unknowns
+    Eigen::SparseMatrix<double> free_pinned;  // its coupling to the pinned coordinates
+    CholeskySolver solver;
+  };
+
+  NormalGuidedDeformation(const NormalGuidedDeformation&) = default;  // shares the system (sharing_factor)
+
   void factor_coupled();
   Positions step_coupled(const Positions& current) const;
   Positions step_decoupled(const Positions& current, const Normals& normals) const;
@@ -136,11 +162,7 @@ class NormalGuidedDeformation {
   Normals targets_;
   int threads_;
   Eigen::VectorXd normal_weights_;  // per triangle in [0, 1], or empty (all 1)
-  std::vector<int> free_index_;     // vertex -> unknown number, -1 when pinned
-  Eigen::Index free_count_ = 0;
-  Eigen::SparseMatrix<double> free_free_;    // normal matrix on the free unknowns
-  Eigen::SparseMatrix<double> free_pinned_;  // its coupling to the pinned coordinates
-  std::unique_ptr<CholeskySolver> solver_;
+  std::shared_ptr<System> system_;
 };
 
 }  // namespace developable

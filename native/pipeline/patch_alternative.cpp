@@ -138,8 +138,8 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
 }
 
 PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positions& thinned, PieceSource source,
-                                       const Progress& progress) {
-  ThinnedPieces candidate = thinned_pieces(input, thinned, source, progress.sub(0.0, 0.95));
+                                       NormalGuidedDeformation deformation, const Progress& progress) {
+  ThinnedPieces candidate = thinned_pieces(input, thinned, source, std::move(deformation), progress.sub(0.0, 0.95));
   Patches patches =
       fitted_patches(std::move(candidate.pieces), candidate.count, input.normals, input.areas, input.options);
   const PatchRun run = patch_run(input, patches);

@@ -45,13 +45,14 @@ PipelineResult finish_plan_result(const MeasuredInput& input, PipelineResult res
 inline constexpr double kThinnedCrumpleSlack = 0.03;
 
 // An alternative of the thinned-pieces generator (thinned_pieces.h) from
-// the thinned mesh `thinned` (thin_whole) with the pieces of `source`: its
+// the thinned mesh `thinned` (thin_whole) with the pieces of `source` and
+// the thinning's `deformation` (thinned_pieces): its
 // pieces as the patches, its mesh as the one candidate, held to the
 // admissibility rule (selection.h) like any other and to
 // kThinnedCrumpleSlack; the input when either turns it away. For a whole
 // object (input.object: its judge measures the rulings the slack reads).
 // Throws what the stages throw.
 PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positions& thinned, PieceSource source,
-                                       const Progress& progress);
+                                       NormalGuidedDeformation deformation, const Progress& progress);
 
 }  // namespace developable

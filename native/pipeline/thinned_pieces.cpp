@@ -116,19 +116,22 @@ void thin(const MeasuredInput& input, NormalGuidedDeformation& deformation, cons
 
 }  // namespace
 
-Positions thin_whole(const MeasuredInput& input, const Progress& progress) {
+NormalGuidedDeformation thinning_deformation(const MeasuredInput& input) {
+  return NormalGuidedDeformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(input.triangles.rows()),
+                                 input.options.omega, kRefitCentroidWeight, Formulation::decoupled, input.normals,
+                                 input.options.threads);
+}
+
+Positions thin_whole(const MeasuredInput& input, NormalGuidedDeformation& deformation, const Progress& progress) {
   Positions thinned = input.positions;
   if (!(input.limit > 0.0)) return thinned;
-  NormalGuidedDeformation deformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(input.triangles.rows()),
-                                      input.options.omega, kRefitCentroidWeight, Formulation::decoupled, input.normals,
-                                      input.options.threads);
   const StepGuard free_guard(input, CreaseGuard(input.triangles, input.normals, {}, 0.0));
   thin(input, deformation, free_guard, {}, kThinningIterations, thinned, progress);
   return thinned;
 }
 
 ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinned, PieceSource source,
-                             const Progress& progress) {
+                             NormalGuidedDeformation deformation, const Progress& progress) {
   ThinnedPieces out;
   const Eigen::Index m = input.triangles.rows();
   out.positions = thinned;
@@ -147,13 +150,10 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   }
   out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
 
-  NormalGuidedDeformation deformation(input.triangles, input.pinned, Eigen::VectorXd::Ones(m), input.options.omega,
-                                      kRefitCentroidWeight, Formulation::decoupled, input.normals,
-                                      input.options.threads);
   const StepGuard piece_guard(input, CreaseGuard(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth));
   piece_guard.heal(out.positions);
   thin(input, deformation, piece_guard, out.pieces, kPieceThinningIterations, out.positions, progress.sub(0.05, 0.5));
-  deformation.release();  // its factor is of no use to the ruled polish, which needs the memory
+  deformation.release();  // its share of the factor is of no use to the ruled polish, which needs the memory
 
   const std::vector<bool> border = patch_border_vertices(input.triangles, out.pieces, input.positions.rows());
   std::vector<bool> inside = input.measured.interior;

@@ -33,6 +33,7 @@
 #pragma once
 
 #include "core/types.h"
+#include "deformation/deformation.h"
 #include "pipeline/run_context.h"
 
 #include <vector>
@@ -72,16 +73,27 @@ struct ThinnedPieces {
   int polish_iterations = 0;
 };
 
-// Stage 1 on `input` (closed or open; pins kept): the thinned mesh, within
+// The deformation of stages 1 and 3 (decoupled, every row weight 1, the
+// refit mode's centroid weight, the input's pins), factored once: its
+// matrix does not depend on the targets, so thin_whole and both candidates'
+// stage 3 step with it or with a copy sharing its factor
+// (NormalGuidedDeformation::sharing_factor). At 1M faces each factor took
+// about 1 GB and the two candidates held one each side by side.
+// Throws EngineError(numerical_failure) when the factorisation fails.
+NormalGuidedDeformation thinning_deformation(const MeasuredInput& input);
+
+// Stage 1 on `input` (closed or open; pins kept) with `deformation`
+// (thinning_deformation's; its targets change): the thinned mesh, within
 // kThinningLimitShare of input.limit; the input when input.limit <= 0.
 // progress: 0..1 of the caller's range. Throws EngineError(cancelled)
 // through `progress`, EngineError(numerical_failure) when a solve fails.
-Positions thin_whole(const MeasuredInput& input, const Progress& progress);
+Positions thin_whole(const MeasuredInput& input, NormalGuidedDeformation& deformation, const Progress& progress);
 
-// Stages 2-4 from `thinned` (thin_whole's) with the pieces of `source`.
-// With no move limit (input.limit <= 0) it returns `thinned` as one piece.
-// Throws as thin_whole.
+// Stages 2-4 from `thinned` (thin_whole's) with the pieces of `source`,
+// stage 3 with `deformation` (thin_whole's or one sharing its factor),
+// released before stage 4. With no move limit (input.limit <= 0) it returns
+// `thinned` as one piece. Throws as thin_whole.
 ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinned, PieceSource source,
-                             const Progress& progress);
+                             NormalGuidedDeformation deformation, const Progress& progress);
 
 }  // namespace developable

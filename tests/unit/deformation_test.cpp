@@ -102,6 +102,32 @@ TEST(Deformation, OwnNormalsAsTargetsLeaveAPlaneInPlace) {
   }
 }
 
+// A copy sharing the decoupled factor steps as a deformation with a factor of
+// its own, bit for bit, and keeps stepping once the original is released;
+// a coupled system (whose matrix follows the targets) is not shared.
+TEST(Deformation, ASharedFactorStepsAsItsOwn) {
+  const auto m = test::plane(6, 7);
+  std::vector<bool> pinned(static_cast<size_t>(m.positions.rows()), false);
+  pinned[0] = true;
+  Positions bent = m.positions;
+  for (Eigen::Index v = 0; v < bent.rows(); ++v) bent(v, 2) = 0.1 * bent(v, 0) * bent(v, 0);
+  const Normals normals = face_normals(bent, m.triangles);
+  const Normals up = face_normals(m.positions, m.triangles);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(m.triangles.rows());
+  NormalGuidedDeformation original(m.triangles, pinned, ones, 5.0, 0.3, Formulation::decoupled, normals);
+  NormalGuidedDeformation shared = original.sharing_factor();
+  original.release();
+  shared.set_targets(up);
+  NormalGuidedDeformation own(m.triangles, pinned, ones, 5.0, 0.3, Formulation::decoupled, up);
+  const Positions a = shared.step(bent, normals), b = own.step(bent, normals);
+  ASSERT_EQ(a.rows(), b.rows());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * a.size()), 0);
+  NormalGuidedDeformation coupled(m.triangles, pinned, ones, 5.0, 0.3, Formulation::coupled, normals);
+  EXPECT_THROW(coupled.sharing_factor(), EngineError);
+  shared.release();
+  EXPECT_THROW(shared.sharing_factor(), EngineError);
+}
+
 TEST(Deformation, AReleasedSystemRefusesToStep) {
   const auto m = test::plane(6, 7);
   const Normals normals = face_normals(m.positions, m.triangles);

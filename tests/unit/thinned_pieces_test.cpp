@@ -40,9 +40,9 @@ struct EllipsoidRun {
   test::Mesh mesh = ellipsoid();
   VertexFaces table = vertex_faces(mesh.triangles, mesh.positions.rows());
   PipelineOptions options = four_percent();
-  MeasuredInput input = measure_input(mesh.positions, mesh.triangles, table,
-                                      std::vector<bool>(static_cast<size_t>(mesh.positions.rows()), false), options,
-                                      Clock::now());
+  MeasuredInput input =
+      measure_input(mesh.positions, mesh.triangles, table,
+                    std::vector<bool>(static_cast<size_t>(mesh.positions.rows()), false), options, Clock::now());
 };
 
 VertexShares shares_of(const Positions& p, const Triangles& t, const VertexFaces& table,
@@ -55,34 +55,36 @@ TEST(ThinnedPieces, KeepsTheLimitTheFacesAndThePiecesUncreased) {
   const EllipsoidRun run;
   const MeasuredInput& input = run.input;
   ASSERT_TRUE(input.closed);
-  const Positions whole = thin_whole(input, {});
+  NormalGuidedDeformation thinning = thinning_deformation(input);
+  const Positions whole = thin_whole(input, thinning, {});
   for (Eigen::Index v = 0; v < input.positions.rows(); ++v)
     EXPECT_LE((whole.row(v) - input.positions.row(v)).norm(), kThinningLimitShare * input.limit * (1.0 + 1e-12));
   for (PieceSource source : {PieceSource::creases, PieceSource::segmentation}) {
-  const ThinnedPieces thinned = thinned_pieces(input, whole, source, {});
-  ASSERT_EQ(thinned.positions.rows(), input.positions.rows());
-  ASSERT_EQ(static_cast<Eigen::Index>(thinned.pieces.size()), input.triangles.rows());
-  EXPECT_GT(thinned.count, 1);
-  EXPECT_EQ(thinned.count, 1 + *std::max_element(thinned.pieces.begin(), thinned.pieces.end()));
-  for (Eigen::Index v = 0; v < input.positions.rows(); ++v)
-    EXPECT_LE((thinned.positions.row(v) - input.positions.row(v)).norm(), input.limit * (1.0 + 1e-12));
-  const Normals after = face_normals(thinned.positions, input.triangles);
-  EXPECT_TRUE(turned_over_faces(after, input.normals).empty());
-  const CreaseGuard guard(input.triangles, input.normals, thinned.pieces, kSegmentedCreaseGrowth);
-  EXPECT_TRUE(guard.creased_faces(after).empty());
-  const VertexShares before = shares_of(input.positions, input.triangles, run.table, input.measured.interior);
-  const VertexShares now = shares_of(thinned.positions, input.triangles, run.table, input.measured.interior);
-  EXPECT_LE(now.crumpled, before.crumpled + kThinnedCrumpleSlack);
-  EXPECT_GT(now.ruled, before.ruled);  // flat and ruled share
-  // Deterministic.
-  EXPECT_EQ(thinned_pieces(input, whole, source, {}).positions, thinned.positions);
+    const ThinnedPieces thinned = thinned_pieces(input, whole, source, thinning.sharing_factor(), {});
+    ASSERT_EQ(thinned.positions.rows(), input.positions.rows());
+    ASSERT_EQ(static_cast<Eigen::Index>(thinned.pieces.size()), input.triangles.rows());
+    EXPECT_GT(thinned.count, 1);
+    EXPECT_EQ(thinned.count, 1 + *std::max_element(thinned.pieces.begin(), thinned.pieces.end()));
+    for (Eigen::Index v = 0; v < input.positions.rows(); ++v)
+      EXPECT_LE((thinned.positions.row(v) - input.positions.row(v)).norm(), input.limit * (1.0 + 1e-12));
+    const Normals after = face_normals(thinned.positions, input.triangles);
+    EXPECT_TRUE(turned_over_faces(after, input.normals).empty());
+    const CreaseGuard guard(input.triangles, input.normals, thinned.pieces, kSegmentedCreaseGrowth);
+    EXPECT_TRUE(guard.creased_faces(after).empty());
+    const VertexShares before = shares_of(input.positions, input.triangles, run.table, input.measured.interior);
+    const VertexShares now = shares_of(thinned.positions, input.triangles, run.table, input.measured.interior);
+    EXPECT_LE(now.crumpled, before.crumpled + kThinnedCrumpleSlack);
+    EXPECT_GT(now.ruled, before.ruled);  // flat and ruled share
+    // Deterministic, and the shared factor steps as a factor of its own.
+    EXPECT_EQ(thinned_pieces(input, whole, source, thinning_deformation(input), {}).positions, thinned.positions);
   }
 }
 
 TEST(ThinnedPieces, ItsAlternativeIsHeldToTheOneRule) {
   const EllipsoidRun run;
-  const PipelineResult r =
-      run_thinned_alternative(run.input, thin_whole(run.input, {}), PieceSource::segmentation, {});
+  NormalGuidedDeformation thinning = thinning_deformation(run.input);
+  const PipelineResult r = run_thinned_alternative(run.input, thin_whole(run.input, thinning, {}),
+                                                   PieceSource::segmentation, thinning.sharing_factor(), {});
   EXPECT_EQ(static_cast<Eigen::Index>(r.patch_ids.size()), run.input.triangles.rows());
   if (r.stats.result == ResultKind::improved) {
     EXPECT_EQ(r.stats.origin, ResultOrigin::thinned_pieces);
@@ -101,12 +103,13 @@ TEST(ThinnedPieces, WithoutAMoveLimitReturnsTheInput) {
   PipelineOptions options;
   options.tolerance = 0.0;
   options.max_move = 0.0;
-  const MeasuredInput input = measure_input(m.positions, m.triangles, table,
-                                            std::vector<bool>(static_cast<size_t>(m.positions.rows()), false),
-                                            options, Clock::now());
-  const Positions whole = thin_whole(input, {});
+  const MeasuredInput input =
+      measure_input(m.positions, m.triangles, table, std::vector<bool>(static_cast<size_t>(m.positions.rows()), false),
+                    options, Clock::now());
+  NormalGuidedDeformation thinning = thinning_deformation(input);
+  const Positions whole = thin_whole(input, thinning, {});
   EXPECT_EQ(whole, m.positions);
-  const ThinnedPieces thinned = thinned_pieces(input, whole, PieceSource::creases, {});
+  const ThinnedPieces thinned = thinned_pieces(input, whole, PieceSource::creases, std::move(thinning), {});
   EXPECT_EQ(thinned.positions, m.positions);
   EXPECT_EQ(thinned.count, 1);
 }

@@ -86,6 +86,8 @@ class NormalGuidedDeformation {
   NormalGuidedDeformation(const Triangles& triangles, const std::vector<bool>& pinned, Eigen::VectorXd row_weights,
                           double omega, double centroid_weight, Formulation formulation, const Normals& targets,
                           int threads = 0);
+  NormalGuidedDeformation(NormalGuidedDeformation&&) = default;
+  NormalGuidedDeformation& operator=(NormalGuidedDeformation&&) = default;
 
   // New target normals, e.g. after the ideal curve was refit. The coupled
   // formulation refactors numerically (same sparsity pattern); the decoupled
@@ -111,9 +113,6 @@ class NormalGuidedDeformation {
   // decoupled formulation rotates each triangle from its normal and would
   // otherwise compute them again; the coupled one ignores them.
   Positions step(const Positions& current, const Normals& normals) const;
-
-  NormalGuidedDeformation(NormalGuidedDeformation&&) = default;
-  NormalGuidedDeformation& operator=(NormalGuidedDeformation&&) = default;
 
   // A deformation of the same mesh, pins, row weights, omega and centroid
   // weight, with this one's targets, sharing this one's factorisation

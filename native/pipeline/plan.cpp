@@ -210,8 +210,12 @@ PipelineResult object_alternatives(const MeasuredInput& input, Patches patches, 
   // A mesh developable as it stands, or piecewise (a torus of cone frusta),
   // has nothing to gain: it comes back as it is.
   const UnchangedReason reason = split.stats.unchanged_reason;
-  if (split.stats.result == ResultKind::unchanged &&
-      (reason == UnchangedReason::developable_piecewise || reason == UnchangedReason::already_developable)) {
+  // Without a move limit the generator has none to thin within: its stages
+  // return the input (thinned_pieces.h), which never beats the split run, so
+  // neither its factorisation nor its candidates are worth making.
+  if ((split.stats.result == ResultKind::unchanged &&
+       (reason == UnchangedReason::developable_piecewise || reason == UnchangedReason::already_developable)) ||
+      !(input.limit > 0.0)) {
     progress.report(1.0, "done");
     return split;
   }

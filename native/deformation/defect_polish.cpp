@@ -584,7 +584,8 @@ bool RegionPolish::settled() const {
 
 // The stall rules after a kept step:
 // over the last kStallWindow steps sum K^2 fell by less than half and no
-// vertex became flat (|K| < kFlatDefect): the rest is curvature the
+// vertex became flat (|K| < kFlatDefect; solved by conjugate gradients, at
+// most options.stall_flat_share of the rows): the rest is curvature the
 // constraints cannot remove (the corners of a hull); or every row is flat
 // and the last kFinishWindow steps took off less than kFinishDecrease.
 bool RegionPolish::stalls() {
@@ -592,7 +593,10 @@ bool RegionPolish::stalls() {
   history_.push_back({energy_, flat});
   if (history_.size() > kStallWindow) {
     const auto& then = history_[history_.size() - 1 - kStallWindow];
-    if (energy_ > 0.5 * then.first && flat <= then.second) return true;
+    const auto slow_gain = system_.iterative()
+                               ? static_cast<Eigen::Index>(options_.stall_flat_share * static_cast<double>(rows_))
+                               : Eigen::Index{0};
+    if (energy_ > 0.5 * then.first && flat <= then.second + slow_gain) return true;
   }
   return flat == rows_ && history_.size() > kFinishWindow &&
          energy_ > (1.0 - kFinishDecrease) * history_[history_.size() - 1 - kFinishWindow].first;

@@ -48,6 +48,17 @@ constexpr int kCandidateDirectRows = 3000;
 // other. A noisy 100k-face cylinder's winning polish: 55 -> 13 steps, as
 // near its twin (docs/scans.md).
 constexpr double kSettledShare = 0.5 * kDefectSlack;
+// The choice's polishes solved by conjugate gradients (the deformation's
+// result and its nearly flat rounds) also stall where ten steps made fewer
+// than this share of their rows flat (PolishOptions::stall_flat_share): ten
+// such windows gain less than the order's flat slack (kFlatSlack). A 100k-face
+// random-curve tangent developable's nearly flat round took 96 steps (5.4 s
+// of its 11 s), the last 60 for 0.05 % of its rows. Least motion's
+// candidates keep the strict rule: where they stop decides the order among
+// polishes a few per cent apart in motion, and stopped so, 3 of 12 noisy
+// 100k-face sheets went to another candidate, one 1.10 -> 1.42 times the
+// noise from its twin (docs/method.md, "Scans of any size").
+constexpr double kChoiceStallFlatShare = 0.1 * kFlatSlack;
 
 // The vertices of `scored` whose |defect| in `defects` is under
 // kNearFlatDefect; empty when none is at or above it (nothing to let go).
@@ -115,6 +126,7 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   if (!deformed) result.spread_damping = kInputPolishDamping;
   result.active_defect = std::min(result.active_defect, kPolishActiveShare * input.before.mean_abs);
   PolishOptions candidates = result;
+  result.stall_flat_share = kChoiceStallFlatShare;
   candidates.spread_damping = kInputPolishDamping;
   candidates.direct_rows = kCandidateDirectRows;
   return {std::move(result), std::move(candidates), guarded};

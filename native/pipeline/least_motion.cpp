@@ -146,7 +146,8 @@ Positions projection_start(const PatchRun& run, Positions start) {
 
 // The smoothed starts: the guarded smoothing and, where the deformation
 // improved the input, that smoothing after one of its steps toward targets
-// refit on it (`stepped`); on sheets the projection's start. The order then
+// refit on it (`stepped`, where the step moved it); on sheets the
+// projection's start. The order then
 // decides which of them can win (enter_starts).
 struct SmoothedStarts {
   std::vector<Start> starts;
@@ -162,9 +163,15 @@ SmoothedStarts smoothed_starts(const PatchRun& run, InputSmoothings smoothings, 
   SmoothedStarts out;
   out.smoothing_move = motion_of(smoothings.guarded, input.positions).rms;
   if (stepped) {
+    // A step that left the smoothing as it was (where the fold-safe step's
+    // reverts do not end, it takes none) is not polished: it would tie with
+    // the smoothed start, which comes first in the order and wins ties.
+    const bool moved = *stepped != smoothings.guarded;
     out.starts.push_back({std::move(smoothings.guarded), ResultOrigin::smoothed_input_polish, out.smoothing_move, {}});
-    const double stepped_move = motion_of(*stepped, input.positions).rms;
-    out.starts.push_back({std::move(*stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
+    if (moved) {
+      const double stepped_move = motion_of(*stepped, input.positions).rms;
+      out.starts.push_back({std::move(*stepped), ResultOrigin::smoothed_step_polish, stepped_move, {}});
+    }
   } else {
     out.unstarted_smoothing = std::move(smoothings.guarded);
   }

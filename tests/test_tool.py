@@ -48,6 +48,43 @@ def test_formats_round_trip(tool_path, tmp_path, suffix):
     assert out_positions.shape == positions.shape and len(out_triangles) == len(triangles)
 
 
+def test_obj_dialects_read_as_one_mesh(tool_path, tmp_path):
+    """What OBJ files carry besides "v x y z" and "f a b c" (CRLF line ends, tabs, comments, normals
+    and texture coordinates, "a/b/c" corners, indices counted back from the end, quads, no final
+    line end) is read as the same mesh, and the output keeps every bit of the coordinates."""
+    positions, triangles = meshes.noisy_cylinder_patch()
+    plain = tmp_path / "plain.obj"
+    write_obj(plain, positions, triangles)
+    n = len(positions)
+    lines = ["# exported", "o patch", "s off", ""]
+    lines += ["\tv\t%r  %r %r " % tuple(p) for p in positions]
+    lines += ["vn 0 0 1", "vt 0.5 0.5"]
+    lines += ["f %d/1/1 %d//1 %d/1" % (a - n, b + 1, c - n) for a, b, c in triangles]
+    dialect = tmp_path / "dialect.obj"
+    dialect.write_bytes("\r\n".join(lines).encode())
+    outputs = []
+    for source in (plain, dialect):
+        target = tmp_path / (source.stem + "_out.obj")
+        run = run_tool(tool_path, source, target, "--max-iterations", "3", "--quiet")
+        assert run.returncode == 0, run.stderr
+        outputs.append(target.read_bytes())
+    assert outputs[0] == outputs[1]
+    # All 17 digits: a tilted plane with jittered vertices is developable as it is and comes back
+    # unchanged, every coordinate to the bit.
+    plane_positions, plane_triangles = meshes.plane()
+    rng = np.random.default_rng(3)
+    plane_positions = plane_positions + rng.uniform(-0.01, 0.01, plane_positions.shape) * [1, 1, 0]
+    rotation, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    plane_positions = plane_positions @ rotation.T + [0.1, -2.3, 1e-3]
+    flat = tmp_path / "flat.obj"
+    write_obj(flat, plane_positions, plane_triangles)
+    same = tmp_path / "same.obj"
+    run = run_tool(tool_path, flat, same)
+    assert run.returncode == 0 and "returned unchanged" in run.stderr, run.stderr
+    back, back_triangles = read_obj(same)
+    assert np.array_equal(back, plane_positions) and np.array_equal(back_triangles, plane_triangles)
+
+
 def read_off_or_ply(path):
     """(positions (n, 3), triangles (m, 3)) of an ASCII OFF or PLY file of triangles, as OpenMesh writes them."""
     lines = path.read_text().splitlines()

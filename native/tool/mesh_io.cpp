@@ -7,12 +7,16 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <charconv>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
-#include <sstream>
+#include <string_view>
+#include <type_traits>
 
 namespace developable_tool {
 namespace {
@@ -179,34 +183,69 @@ std::string extension(const std::string& path) {
   return ext;
 }
 
+// The whitespace-separated words of one line of text (the C locale's
+// blanks; the line ends at its '\n', which the caller has cut off).
+class Words {
+ public:
+  Words(const char* begin, const char* end) : at_(begin), end_(end) {}
+
+  // The next word, or an empty one at the end of the line. It is followed by
+  // a blank, the line's end or the text's terminating NUL, so strtod and
+  // strtol stop at its end.
+  std::string_view next() {
+    while (at_ < end_ && blank(*at_)) ++at_;
+    const char* begin = at_;
+    while (at_ < end_ && !blank(*at_)) ++at_;
+    return {begin, static_cast<size_t>(at_ - begin)};
+  }
+
+ private:
+  static bool blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+  const char* at_;
+  const char* end_;
+};
+
 // OBJ is read here rather than by OpenMesh: its reader skips what it cannot
 // parse ("nan" coordinates, faces with repeated or missing vertices) without
 // telling, and the engine must see those to name them. Polygons become fans
-// through the same importer as every other format.
+// through the same importer as every other format. The file is read whole
+// and split in place (a stream per line took 1.3 s of a 1M-face run).
 bool read_obj(const std::string& path, RawImporter& importer, std::string& error) {
-  std::ifstream in(path);
-  std::string line;
-  for (long line_number = 1; std::getline(in, line); ++line_number) {
-    std::istringstream words(line);
-    std::string keyword;
-    if (!(words >> keyword)) continue;
+  std::ifstream in(path, std::ios::binary);
+  std::string text;
+  in.seekg(0, std::ios::end);
+  text.resize(static_cast<size_t>(std::max<std::streamoff>(in.tellg(), 0)));
+  in.seekg(0, std::ios::beg);
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!in) {
+    error = "cannot read " + path;
+    return false;
+  }
+  const char* at = text.c_str();  // NUL-terminated: the last word ends there
+  const char* const end = at + text.size();
+  for (long line_number = 1; at < end; ++line_number) {
+    const char* line_end = static_cast<const char*>(std::memchr(at, '\n', static_cast<size_t>(end - at)));
+    if (line_end == nullptr) line_end = end;
+    Words words(at, line_end);
+    at = line_end + 1;
+    const std::string_view keyword = words.next();
     if (keyword == "v") {
-      std::string text[3];
       Vec3d p;
       for (int a = 0; a < 3; ++a) {
-        if (!(words >> text[a])) {
+        const std::string_view word = words.next();
+        if (word.empty()) {
           error = path + ":" + std::to_string(line_number) + ": a vertex needs three coordinates";
           return false;
         }
         // strtod reads "nan" and "inf" too, so the engine can name them.
-        p[a] = std::strtod(text[a].c_str(), nullptr);
+        p[a] = std::strtod(word.data(), nullptr);
       }
       importer.add_vertex(p);
     } else if (keyword == "f") {
       IO::BaseImporter::VHandles polygon;
-      std::string corner;
-      while (words >> corner) {
-        const long index = std::strtol(corner.c_str(), nullptr, 10);
+      for (std::string_view corner = words.next(); !corner.empty(); corner = words.next()) {
+        const long index = std::strtol(corner.data(), nullptr, 10);
         // Negative indices count back from the last vertex read so far.
         const long vertex = index < 0 ? static_cast<long>(importer.n_vertices()) + index : index - 1;
         polygon.push_back(VertexHandle(static_cast<int>(
@@ -246,16 +285,41 @@ bool read_raw_mesh(const std::string& path, RawMesh& mesh, std::string& error) {
 bool can_write(const std::string& path) { return IO::IOManager().can_write(extension(path)); }
 
 // OBJ is written here so that coordinates keep all 17 digits; OpenMesh's
-// writers go through single precision.
+// writers go through single precision. Each line is formatted by to_chars
+// (the text of printf's %.17g and %d, at a fraction of the time) into a
+// buffer written in blocks.
 bool write_obj(const std::string& path, const std::vector<double>& positions, const std::vector<int32_t>& triangles) {
   std::FILE* file = std::fopen(path.c_str(), "w");
   if (file == nullptr) return false;
   bool ok = std::fprintf(file, "# developable: %zu vertices, %zu triangles\n", positions.size() / 3,
                          triangles.size() / 3) > 0;
-  for (size_t v = 0; ok && v + 2 < positions.size(); v += 3)
-    ok = std::fprintf(file, "v %.17g %.17g %.17g\n", positions[v], positions[v + 1], positions[v + 2]) > 0;
-  for (size_t t = 0; ok && t + 2 < triangles.size(); t += 3)
-    ok = std::fprintf(file, "f %d %d %d\n", triangles[t] + 1, triangles[t + 1] + 1, triangles[t + 2] + 1) > 0;
+  std::string buffer;
+  const auto flush = [&](size_t at_least) {
+    if (buffer.size() < at_least) return;
+    ok = ok && std::fwrite(buffer.data(), 1, buffer.size(), file) == buffer.size();
+    buffer.clear();
+  };
+  constexpr size_t kBlock = 1 << 20;
+  char line[128];
+  const auto put = [&](char keyword, const auto& values) {
+    char* at = line;
+    *at++ = keyword;
+    for (const auto value : values) {
+      *at++ = ' ';
+      if constexpr (std::is_floating_point_v<std::decay_t<decltype(value)>>)
+        at = std::to_chars(at, line + sizeof(line), value, std::chars_format::general, 17).ptr;
+      else
+        at = std::to_chars(at, line + sizeof(line), value).ptr;
+    }
+    *at++ = '\n';
+    buffer.append(line, at);
+    flush(kBlock);
+  };
+  for (size_t v = 0; v + 2 < positions.size(); v += 3)
+    put('v', std::array<double, 3>{positions[v], positions[v + 1], positions[v + 2]});
+  for (size_t t = 0; t + 2 < triangles.size(); t += 3)
+    put('f', std::array<long, 3>{triangles[t] + 1L, triangles[t + 1] + 1L, triangles[t + 2] + 1L});
+  flush(0);
   return std::fclose(file) == 0 && ok;
 }
 

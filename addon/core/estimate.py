@@ -33,11 +33,11 @@ LARGE_MESH_FACES = 100_000
 
 # bench/scans.py: begin
 # Wall seconds = a * (faces / 1e5)^b; measured runs at 100k faces and more
-# over the fit from low to high (bench/scans.py, 2026-12-06 11:02 UTC,
+# over the fit from low to high (bench/scans.py, 2026-12-06 11:33 UTC,
 # AMD EPYC, 2 cores).
 MEASURED = {
-    "sheet": {"a": 4.09, "b": 0.853, "low": 0.514, "high": 2.28},
-    "object": {"a": 43.6, "b": 0.98, "low": 0.856, "high": 1.04},
+    "sheet": {"a": 4.05, "b": 0.845, "low": 0.52, "high": 2.31},
+    "object": {"a": 42.4, "b": 0.965, "low": 0.877, "high": 1.07},
 }
 # bench/scans.py: end
 

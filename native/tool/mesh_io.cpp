@@ -189,9 +189,7 @@ class Words {
  public:
   Words(const char* begin, const char* end) : at_(begin), end_(end) {}
 
-  // The next word, or an empty one at the end of the line. It is followed by
-  // a blank, the line's end or the text's terminating NUL, so strtod and
-  // strtol stop at its end.
+  // The next word, or an empty one at the end of the line.
   std::string_view next() {
     while (at_ < end_ && blank(*at_)) ++at_;
     const char* begin = at_;
@@ -205,6 +203,18 @@ class Words {
   const char* at_;
   const char* end_;
 };
+
+// `parse` (strtod, strtol) of a NUL-terminated copy of `word`: handed the
+// text in place, they would be given the rest of the file, which a
+// sanitizer's string checks read whole on every call.
+template <class Parse>
+auto parse_word(std::string_view word, const Parse& parse) {
+  char buffer[64];
+  if (word.size() >= sizeof(buffer)) return parse(std::string(word).c_str());
+  std::memcpy(buffer, word.data(), word.size());
+  buffer[word.size()] = '\0';
+  return parse(static_cast<const char*>(buffer));
+}
 
 // OBJ is read here rather than by OpenMesh: its reader skips what it cannot
 // parse ("nan" coordinates, faces with repeated or missing vertices) without
@@ -222,7 +232,7 @@ bool read_obj(const std::string& path, RawImporter& importer, std::string& error
     error = "cannot read " + path;
     return false;
   }
-  const char* at = text.c_str();  // NUL-terminated: the last word ends there
+  const char* at = text.data();
   const char* const end = at + text.size();
   for (long line_number = 1; at < end; ++line_number) {
     const char* line_end = static_cast<const char*>(std::memchr(at, '\n', static_cast<size_t>(end - at)));
@@ -239,13 +249,13 @@ bool read_obj(const std::string& path, RawImporter& importer, std::string& error
           return false;
         }
         // strtod reads "nan" and "inf" too, so the engine can name them.
-        p[a] = std::strtod(word.data(), nullptr);
+        p[a] = parse_word(word, [](const char* c) { return std::strtod(c, nullptr); });
       }
       importer.add_vertex(p);
     } else if (keyword == "f") {
       IO::BaseImporter::VHandles polygon;
       for (std::string_view corner = words.next(); !corner.empty(); corner = words.next()) {
-        const long index = std::strtol(corner.data(), nullptr, 10);
+        const long index = parse_word(corner, [](const char* c) { return std::strtol(c, nullptr, 10); });
         // Negative indices count back from the last vertex read so far.
         const long vertex = index < 0 ? static_cast<long>(importer.n_vertices()) + index : index - 1;
         polygon.push_back(VertexHandle(static_cast<int>(

@@ -56,9 +56,9 @@ struct PolishOptions {
   // do not finish quadratically as factored ones do (those go on to
   // target_defect in a few steps).
   double settled_defect = 0.0;
-  // > 0: a polish solved by conjugate gradients also stalls where its last
-  // ten steps did not halve sum K^2 and made at most this share of its rows
-  // flat (without, and factored: where they made none flat). Inexact steps can
+  // > 0: a polish solved by conjugate gradients also stalls where its stall
+  // window of steps did not halve sum K^2 and made at most this share of its
+  // rows flat (without, and factored: where they made none flat). Inexact steps can
   // take a vertex or two at a time for as long as they are let.
   double stall_flat_share = 0.0;
   // Only vertices with |K| at or above this move, with their stars (rad); by

@@ -49,11 +49,11 @@ constexpr int kCandidateDirectRows = 3000;
 // near its twin (docs/scans.md).
 constexpr double kSettledShare = 0.5 * kDefectSlack;
 // The choice's polishes solved by conjugate gradients (the deformation's
-// result and its nearly flat rounds) also stall where ten steps made fewer
-// than this share of their rows flat (PolishOptions::stall_flat_share): ten
+// result and its nearly flat rounds) also stall where ten steps made at most
+// this share of their rows flat (PolishOptions::stall_flat_share): ten
 // such windows gain less than the order's flat slack (kFlatSlack). A 100k-face
 // random-curve tangent developable's nearly flat round took 96 steps (5.4 s
-// of its 11 s), the last 60 for 0.05 % of its rows. Least motion's
+// of its 11 s), the last 60 for 0.07 % of its rows. Least motion's
 // candidates keep the strict rule: where they stop decides the order among
 // polishes a few per cent apart in motion, and stopped so, 3 of 12 noisy
 // 100k-face sheets went to another candidate, one 1.10 -> 1.42 times the
@@ -125,8 +125,9 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   // Without a better iterate the polish starts from the input.
   if (!deformed) result.spread_damping = kInputPolishDamping;
   result.active_defect = std::min(result.active_defect, kPolishActiveShare * input.before.mean_abs);
-  PolishOptions candidates = result;
   result.stall_flat_share = kChoiceStallFlatShare;
+  PolishOptions candidates = result;
+  candidates.stall_flat_share = 0.0;  // least motion's candidates keep the strict rule
   candidates.spread_damping = kInputPolishDamping;
   candidates.direct_rows = kCandidateDirectRows;
   return {std::move(result), std::move(candidates), guarded};

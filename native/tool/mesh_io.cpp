@@ -7,7 +7,6 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <charconv>
 #include <cstdio>
@@ -16,7 +15,6 @@
 #include <fstream>
 #include <limits>
 #include <string_view>
-#include <type_traits>
 
 namespace developable_tool {
 namespace {
@@ -303,33 +301,36 @@ bool write_obj(const std::string& path, const std::vector<double>& positions, co
   if (file == nullptr) return false;
   bool ok = std::fprintf(file, "# developable: %zu vertices, %zu triangles\n", positions.size() / 3,
                          triangles.size() / 3) > 0;
+  // Whole lines into `buffer`, written out a block at a time.
+  constexpr size_t kBlock = 1 << 20;
   std::string buffer;
-  const auto flush = [&](size_t at_least) {
-    if (buffer.size() < at_least) return;
+  char line[128];
+  const auto end_line = [&](char* at) {
+    *at++ = '\n';
+    buffer.append(line, at);
+    if (buffer.size() < kBlock) return;
     ok = ok && std::fwrite(buffer.data(), 1, buffer.size(), file) == buffer.size();
     buffer.clear();
   };
-  constexpr size_t kBlock = 1 << 20;
-  char line[128];
-  const auto put = [&](char keyword, const auto& values) {
+  for (size_t v = 0; v + 2 < positions.size(); v += 3) {
     char* at = line;
-    *at++ = keyword;
-    for (const auto value : values) {
+    *at++ = 'v';
+    for (size_t k = v; k < v + 3; ++k) {
       *at++ = ' ';
-      if constexpr (std::is_floating_point_v<std::decay_t<decltype(value)>>)
-        at = std::to_chars(at, line + sizeof(line), value, std::chars_format::general, 17).ptr;
-      else
-        at = std::to_chars(at, line + sizeof(line), value).ptr;
+      at = std::to_chars(at, line + sizeof(line), positions[k], std::chars_format::general, 17).ptr;
     }
-    *at++ = '\n';
-    buffer.append(line, at);
-    flush(kBlock);
-  };
-  for (size_t v = 0; v + 2 < positions.size(); v += 3)
-    put('v', std::array<double, 3>{positions[v], positions[v + 1], positions[v + 2]});
-  for (size_t t = 0; t + 2 < triangles.size(); t += 3)
-    put('f', std::array<long, 3>{triangles[t] + 1L, triangles[t + 1] + 1L, triangles[t + 2] + 1L});
-  flush(0);
+    end_line(at);
+  }
+  for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    char* at = line;
+    *at++ = 'f';
+    for (size_t k = t; k < t + 3; ++k) {
+      *at++ = ' ';
+      at = std::to_chars(at, line + sizeof(line), triangles[k] + 1L).ptr;
+    }
+    end_line(at);
+  }
+  ok = ok && std::fwrite(buffer.data(), 1, buffer.size(), file) == buffer.size();
   return std::fclose(file) == 0 && ok;
 }
 

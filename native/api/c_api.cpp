@@ -94,11 +94,11 @@ static_assert(DEV_ORIGIN_SMOOTHED_STEP_POLISH == c_value(developable::ResultOrig
 static_assert(DEV_ORIGIN_PROJECTED_INPUT == c_value(developable::ResultOrigin::projected_input));
 static_assert(DEV_ORIGIN_THINNED_PIECES == c_value(developable::ResultOrigin::thinned_pieces));
 static_assert(DEV_ORIGIN_RULED_FINISH == c_value(developable::ResultOrigin::ruled_finish));
-static_assert(DEV_WORSE_MEAN_DEFECT == developable::worse_mean_defect);
-static_assert(DEV_WORSE_MAX_DEFECT == developable::worse_max_defect);
-static_assert(DEV_WORSE_FLAT_SHARE == developable::worse_flat_share);
-static_assert(DEV_WORSE_RULED_SHARE == developable::worse_ruled_share);
-static_assert(DEV_WORSE_TURNED_FACES == developable::worse_turned_faces);
+static_assert(DEV_WORSE_MEAN_DEFECT == c_value(developable::worse_mean_defect));
+static_assert(DEV_WORSE_MAX_DEFECT == c_value(developable::worse_max_defect));
+static_assert(DEV_WORSE_FLAT_SHARE == c_value(developable::worse_flat_share));
+static_assert(DEV_WORSE_RULED_SHARE == c_value(developable::worse_ruled_share));
+static_assert(DEV_WORSE_TURNED_FACES == c_value(developable::worse_turned_faces));
 
 void write_message(char* message, size_t capacity, const std::string& text) {
   if (message == nullptr || capacity == 0) return;

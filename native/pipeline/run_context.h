@@ -27,6 +27,14 @@ double elapsed_ms(Clock::time_point since);
 // The input and its measures (stage 2), shared by the runs on its patches.
 // The references must outlive it.
 struct MeasuredInput {
+  MeasuredInput(const Positions& positions, const Triangles& triangles, const VertexFaces& connectivity,
+                const PipelineOptions& options, Clock::time_point start_time)
+      : positions(positions),
+        triangles(triangles),
+        connectivity(connectivity),
+        options(options),
+        start_time(start_time) {}
+
   const Positions& positions;
   const Triangles& triangles;
   const VertexFaces& connectivity;
@@ -72,6 +80,8 @@ inline constexpr double kOnePatchCreaseGrowth = 90.0 * M_PI / 180.0;
 
 // One patch alternative's run: its patches and what follows from them.
 struct PatchRun {
+  explicit PatchRun(const MeasuredInput& input) : input(input) {}
+
   const MeasuredInput& input;
   std::vector<int> patch_ids;  // per face
   int patch_count = 1;

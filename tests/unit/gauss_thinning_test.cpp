@@ -74,7 +74,9 @@ TEST(GaussThinning, NeighbourhoodsAreSymmetricWithinTheRadiusAndThePieces) {
       for (const int* g = thinning.begin(f); g != thinning.end(f); ++g) {
         EXPECT_LE((centroid(*g) - centroid(f)).norm(), radius + 1e-12);
         EXPECT_TRUE(std::binary_search(thinning.begin(*g), thinning.end(*g), static_cast<int>(f)));
-        if (!ids.empty()) EXPECT_EQ(ids[static_cast<size_t>(*g)], ids[static_cast<size_t>(f)]);
+        if (!ids.empty()) {
+          EXPECT_EQ(ids[static_cast<size_t>(*g)], ids[static_cast<size_t>(f)]);
+        }
       }
     }
   }

@@ -122,9 +122,11 @@ TEST(RuledPolish, KeepsPinsAndReturnsItsStartWithNothingScored) {
   for (size_t v = 0; v < pinned.size(); v += 3) pinned[v] = true;
   const RuledPolishResult r =
       polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, s.inside, pinned, options, {});
-  for (size_t v = 0; v < pinned.size(); ++v)
-    if (pinned[v])
+  for (size_t v = 0; v < pinned.size(); ++v) {
+    if (pinned[v]) {
       EXPECT_EQ(r.positions.row(static_cast<Eigen::Index>(v)), s.mesh.positions.row(static_cast<Eigen::Index>(v)));
+    }
+  }
   const std::vector<bool> none(pinned.size(), false);
   const RuledPolishResult idle =
       polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, none, {}, options, {});

@@ -253,13 +253,15 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
   std::atomic<double> choice_move{0.0};
   PolishOptions late_options = plan.candidates;
   late_options.late_give_up_move = &choice_move;
+  PolishOptions input_options = plan.raw_input;
+  input_options.late_give_up_move = &choice_move;
   const auto polish_choice_job = [&](const Progress& share) {
     polish_choice(share);
     choice_move = motion_of(choice.positions, input.positions).rms;
   };
   Start input_start{input.positions, ResultOrigin::input_polish, 0.0, {}};
   const auto polish_input_job = [&](const Progress& share) {
-    input_start.polished = polish_start(run, input_start, late_options, share);
+    input_start.polished = polish_start(run, input_start, input_options, share);
   };
   // The polish of the input gives up past the choice's move once the
   // choice's polishes have set it (PolishOptions::late_give_up_move); where

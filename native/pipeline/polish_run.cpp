@@ -43,11 +43,18 @@ constexpr double kInputPolishDamping = 1e-3;
 constexpr int kCandidateDirectRows = 3000;
 // A polish solved by conjugate gradients stops once its rows are flat and
 // their RMS |K| is below this share of the input's mean |defect|
-// (PolishOptions::settled_defect): half the order's slack on the mean
-// (kDefectSlack), so two polishes stopped so are as developable as each
-// other. A noisy 100k-face cylinder's winning polish: 55 -> 13 steps, as
-// near its twin (docs/scans.md).
-constexpr double kSettledShare = 0.5 * kDefectSlack;
+// (PolishOptions::settled_defect): the order's slack on the mean
+// (kDefectSlack), so a polish stopped so is as developable as any other
+// result (as_developable). A noisy 100k-face cylinder's winning polish: 55
+// -> 7 steps, as near its twin (docs/method.md, "Scans of any size").
+constexpr double kSettledShare = kDefectSlack;
+// A polish of the raw input (least motion's, or the choice's where nothing
+// was deformed) settles at half of it. Stopped at the whole slack it moved
+// the least (RMS) and won with single vertices 2.3 times as far out as the
+// smoothed starts' (held-out seeds 102-103: mean log distance to the twin
+// 0.089 -> 0.107); settled deeper it goes on as before and loses to them as
+// before.
+constexpr double kRawInputSettledShare = 0.5 * kDefectSlack;
 // The choice's polishes solved by conjugate gradients (the deformation's
 // result and its nearly flat rounds) also stall where ten steps made at most
 // this share of their rows flat (PolishOptions::stall_flat_share): ten
@@ -122,15 +129,22 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
     result.crease_growth = run.crease_growth;
     result.crease_groups = run.patch_ids;
   }
-  // Without a better iterate the polish starts from the input.
-  if (!deformed) result.spread_damping = kInputPolishDamping;
+  // Without a better iterate the polish starts from the input, and is the
+  // polish of the raw input.
+  if (!deformed) {
+    result.spread_damping = kInputPolishDamping;
+    result.settled_defect = kRawInputSettledShare * input.before.mean_abs;
+  }
   result.active_defect = std::min(result.active_defect, kPolishActiveShare * input.before.mean_abs);
   result.stall_flat_share = kChoiceStallFlatShare;
   PolishOptions candidates = result;
   candidates.stall_flat_share = 0.0;  // least motion's candidates keep the strict rule
   candidates.spread_damping = kInputPolishDamping;
   candidates.direct_rows = kCandidateDirectRows;
-  return {std::move(result), std::move(candidates), guarded};
+  candidates.settled_defect = kSettledShare * input.before.mean_abs;
+  PolishOptions raw_input = candidates;
+  raw_input.settled_defect = kRawInputSettledShare * input.before.mean_abs;
+  return {std::move(result), std::move(candidates), std::move(raw_input), guarded};
 }
 
 void polish_choice(const PatchRun& run, const PolishPlan& plan, Judge& judge, Choice& choice,

@@ -14,7 +14,8 @@ namespace developable {
 // The run's polishes, decided once the deformation has run.
 struct PolishPlan {
   PolishOptions result;      // the choice's polish and its nearly flat rounds
-  PolishOptions candidates;  // least motion's polishes of the input and its smoothings
+  PolishOptions candidates;  // least motion's polishes of the input's smoothings
+  PolishOptions raw_input;   // least motion's polish of the input itself: as candidates, settled deeper
   // Whether least motion's candidates compete: one patch, or pieces whose
   // deformation improved the input; at every size (docs/method.md, "Scans
   // of any size": up to 2026-12-05 they stopped at 25000 scored vertices,

@@ -1,0 +1,54 @@
+// polish_run.h: the plan's settled stops. Every polish settles at the order's
+// slack on the mean |defect| (as_developable cannot tell it from a longer
+// one) but a polish of the raw input, which settles at half of it: least
+// motion's, and the choice's where nothing was deformed.
+#include "pipeline/polish_run.h"
+
+#include "core/mesh_connectivity.h"
+#include "pipeline/patches.h"
+#include "pipeline/selection.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+namespace developable {
+namespace {
+
+struct NoisyCylinder {
+  test::Mesh mesh = [] {
+    test::Mesh m = test::cylinder(12, 32);
+    test::add_noise(m.positions, 0.01, 7);
+    return m;
+  }();
+  VertexFaces table = vertex_faces(mesh.triangles, mesh.positions.rows());
+  PipelineOptions options;
+  MeasuredInput input =
+      measure_input(mesh.positions, mesh.triangles, table,
+                    std::vector<bool>(static_cast<size_t>(mesh.positions.rows()), false), options, Clock::now());
+  PatchRun run = patch_run(input, one_patch(input.normals, input.areas, options));
+};
+
+TEST(PolishPlan, TheRawInputsPolishSettlesAtHalfTheSlackTheOthersAtAllOfIt) {
+  const NoisyCylinder cylinder;
+  const double mean = cylinder.input.before.mean_abs;
+  ASSERT_GT(mean, 0.0);
+  const PolishPlan deformed = polish_plan(cylinder.run, true);
+  EXPECT_DOUBLE_EQ(deformed.result.settled_defect, kDefectSlack * mean);
+  EXPECT_DOUBLE_EQ(deformed.candidates.settled_defect, kDefectSlack * mean);
+  EXPECT_DOUBLE_EQ(deformed.raw_input.settled_defect, 0.5 * kDefectSlack * mean);
+  // The raw input's polish is a candidate's in everything else.
+  EXPECT_EQ(deformed.raw_input.spread_damping, deformed.candidates.spread_damping);
+  EXPECT_EQ(deformed.raw_input.direct_rows, deformed.candidates.direct_rows);
+  EXPECT_EQ(deformed.raw_input.stall_flat_share, deformed.candidates.stall_flat_share);
+  EXPECT_EQ(deformed.raw_input.limit, deformed.candidates.limit);
+
+  // Nothing deformed: the choice's polish is the polish of the raw input;
+  // the smoothings' polishes settle as before.
+  const PolishPlan undeformed = polish_plan(cylinder.run, false);
+  EXPECT_DOUBLE_EQ(undeformed.result.settled_defect, 0.5 * kDefectSlack * mean);
+  EXPECT_DOUBLE_EQ(undeformed.candidates.settled_defect, kDefectSlack * mean);
+  EXPECT_DOUBLE_EQ(undeformed.raw_input.settled_defect, 0.5 * kDefectSlack * mean);
+}
+
+}  // namespace
+}  // namespace developable

@@ -33,11 +33,11 @@ LARGE_MESH_FACES = 100_000
 
 # bench/scans.py: begin
 # Wall seconds = a * (faces / 1e5)^b; measured runs at 100k faces and more
-# over the fit from low to high (bench/scans.py, 2026-12-06 11:33 UTC,
+# over the fit from low to high (bench/scans.py, 2026-12-06 13:37 UTC,
 # AMD EPYC, 2 cores).
 MEASURED = {
-    "sheet": {"a": 4.05, "b": 0.845, "low": 0.52, "high": 2.31},
-    "object": {"a": 42.4, "b": 0.965, "low": 0.877, "high": 1.07},
+    "sheet": {"a": 3.42, "b": 0.823, "low": 0.559, "high": 2.55},
+    "object": {"a": 41.4, "b": 0.99, "low": 0.892, "high": 1.05},
 }
 # bench/scans.py: end
 

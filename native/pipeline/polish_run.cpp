@@ -111,14 +111,24 @@ void polish_nearly_flat(const PatchRun& run, const PolishOptions& options, Judge
   }
 }
 
+// `options` as a polish of the raw input: damped while it spreads the
+// noise's defects (kInputPolishDamping), settled at half the slack
+// (kRawInputSettledShare of `input_mean`, the input's mean |defect|).
+PolishOptions of_raw_input(PolishOptions options, double input_mean) {
+  options.spread_damping = kInputPolishDamping;
+  options.settled_defect = kRawInputSettledShare * input_mean;
+  return options;
+}
+
 }  // namespace
 
 PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   const MeasuredInput& input = run.input;
+  const double input_mean = input.before.mean_abs;
   PolishOptions result;
   result.limit = input.limit;
   result.spare_cores = input.spare_cores;
-  result.settled_defect = kSettledShare * input.before.mean_abs;
+  result.settled_defect = kSettledShare * input_mean;
   // The crease guard goes on with the polish of a deformed result, and on
   // one patch with every polish. The polish of a segmented input (no better
   // iterate) is only judged by it (admit): as a guard of its steps it let
@@ -129,21 +139,19 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
     result.crease_growth = run.crease_growth;
     result.crease_groups = run.patch_ids;
   }
-  // Without a better iterate the polish starts from the input, and is the
-  // polish of the raw input.
-  if (!deformed) {
-    result.spread_damping = kInputPolishDamping;
-    result.settled_defect = kRawInputSettledShare * input.before.mean_abs;
-  }
-  result.active_defect = std::min(result.active_defect, kPolishActiveShare * input.before.mean_abs);
+  result.active_defect = std::min(result.active_defect, kPolishActiveShare * input_mean);
   result.stall_flat_share = kChoiceStallFlatShare;
+  // Without a better iterate the polish starts from the input: it is the
+  // polish of the raw input.
+  if (!deformed) result = of_raw_input(std::move(result), input_mean);
+  // Least motion's candidates: the smoothings' polishes, damped as the
+  // input's, settled at the whole slack; the raw input's as above.
   PolishOptions candidates = result;
   candidates.stall_flat_share = 0.0;  // least motion's candidates keep the strict rule
   candidates.spread_damping = kInputPolishDamping;
   candidates.direct_rows = kCandidateDirectRows;
-  candidates.settled_defect = kSettledShare * input.before.mean_abs;
-  PolishOptions raw_input = candidates;
-  raw_input.settled_defect = kRawInputSettledShare * input.before.mean_abs;
+  candidates.settled_defect = kSettledShare * input_mean;
+  PolishOptions raw_input = of_raw_input(candidates, input_mean);
   return {std::move(result), std::move(candidates), std::move(raw_input), guarded};
 }
 

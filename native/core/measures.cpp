@@ -218,7 +218,8 @@ CreaseGuard::CreaseGuard(const Triangles& triangles, const Normals& reference, c
                          double growth) {
   if (!(growth > 0.0) || triangles.rows() == 0) return;
   const VertexFaces table = vertex_faces(triangles, triangles.maxCoeff() + 1);
-  edges_.reserve(static_cast<size_t>(3 * triangles.rows() / 2));  // inner edges, each seen once
+  std::vector<Edge> edges;
+  edges.reserve(static_cast<size_t>(3 * triangles.rows() / 2));  // inner edges, each seen once
   for (Eigen::Index f = 0; f < triangles.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
       const int g = face_across(table, triangles, static_cast<int>(f), triangles(f, k), triangles(f, (k + 1) % 3));
@@ -226,8 +227,9 @@ CreaseGuard::CreaseGuard(const Triangles& triangles, const Normals& reference, c
       const bool one_group = groups.empty() || groups[static_cast<size_t>(f)] == groups[static_cast<size_t>(g)];
       if (!one_group || reference.row(f).squaredNorm() == 0.0 || reference.row(g).squaredNorm() == 0.0) continue;
       const double limit = angle_between(reference.row(f), reference.row(g)) + growth;
-      if (limit < M_PI) edges_.push_back({static_cast<int>(f), g, std::cos(limit)});  // else no angle is wider
+      if (limit < M_PI) edges.push_back({static_cast<int>(f), g, std::cos(limit)});  // else no angle is wider
     }
+  edges_ = std::make_shared<const std::vector<Edge>>(std::move(edges));
 }
 
 namespace {
@@ -245,15 +247,17 @@ bool wider_than(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b, double
 }  // namespace
 
 std::vector<Eigen::Index> CreaseGuard::creased_faces(const Normals& normals, SpareCores* spare) const {
+  if (!active()) return {};
+  const std::vector<Edge>& edges = *edges_;
   const std::vector<Eigen::Index> creased =
-      picked_items(static_cast<Eigen::Index>(edges_.size()), spare, [&](Eigen::Index k) {
-        const Edge& e = edges_[static_cast<size_t>(k)];
+      picked_items(static_cast<Eigen::Index>(edges.size()), spare, [&](Eigen::Index k) {
+        const Edge& e = edges[static_cast<size_t>(k)];
         return wider_than(normals.row(e.f), normals.row(e.g), e.limit_cosine);
       });
   std::vector<Eigen::Index> faces;
   for (const Eigen::Index k : creased) {
-    faces.push_back(edges_[static_cast<size_t>(k)].f);
-    faces.push_back(edges_[static_cast<size_t>(k)].g);
+    faces.push_back(edges[static_cast<size_t>(k)].f);
+    faces.push_back(edges[static_cast<size_t>(k)].g);
   }
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());

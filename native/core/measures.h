@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <memory>
 #include <vector>
 
 namespace developable {
@@ -47,8 +48,8 @@ double average_edge_length(const Positions& positions, const Triangles& triangle
 // Discrete Gaussian curvature: the angle defect 2*pi - (sum of the corner
 // angles at the vertex), in radians, for each interior vertex; 0 for boundary
 // vertices and for vertices no triangle uses (`interior` says which is which).
-Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles,
-                              const std::vector<bool>& interior, SpareCores* spare = nullptr);
+Eigen::VectorXd angle_defects(const Positions& positions, const Triangles& triangles, const std::vector<bool>& interior,
+                              SpareCores* spare = nullptr);
 
 // How much vertex v's angle defect answers noise on the vertices: the sum,
 // over v and the vertices around it, of the squared length of the gradient
@@ -96,9 +97,10 @@ std::vector<Eigen::Index> turned_over_faces(const Normals& normals, const Normal
 //   growth <= 0: the guard is off and reports nothing.
 class CreaseGuard {
  public:
+  CreaseGuard() = default;  // off
   CreaseGuard(const Triangles& triangles, const Normals& reference, const std::vector<int>& groups, double growth);
 
-  bool active() const { return !edges_.empty(); }
+  bool active() const { return edges_ && !edges_->empty(); }
 
   // The faces of the watched edges creased at `normals` (face_normals of
   // the same triangles), ascending and unique.
@@ -109,7 +111,9 @@ class CreaseGuard {
     int f, g;             // 16 bytes an edge: a guard of a 1M-face mesh holds 1.5M of them
     double limit_cosine;  // cosine of the reference angle plus the growth (edges where that is < pi)
   };
-  std::vector<Edge> edges_;
+  // Shared by copies: a 1M-face mesh's is 24 MB, and a run's judge,
+  // deformation and polishes hold the same one (PatchRun::crease_guard).
+  std::shared_ptr<const std::vector<Edge>> edges_;
 };
 
 // The faces a step must put back: those turned over against `reference`

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 
@@ -206,18 +207,27 @@ class NormalMatrix {
       std::sort(inner + outer[r], inner + next);
     }
     std::fill(matrix_.valuePtr(), matrix_.valuePtr() + matrix_.nonZeros(), 0.0);
-    // Where each product of a shared vertex goes, in the order of the sums.
+    // Where each product of a shared vertex goes, in the order of the sums:
+    // its offset in the column of the second row, in two bytes (a column
+    // holds a row's two rings). A longer column means a vertex in the stars
+    // of 65536 rows, whose products alone would take 4.3e9 entries.
+    Eigen::Index longest = 0;
+    for (Eigen::Index r = 0; r < rows; ++r) longest = std::max<Eigen::Index>(longest, outer[r + 1] - outer[r]);
+    if (longest > Eigen::Index{std::numeric_limits<uint16_t>::max()} + 1)
+      throw EngineError(Status::out_of_memory, "the angle-defect polish: a vertex with " + std::to_string(longest) +
+                                                   " interior vertices around it is beyond its tables (at most 65536)");
     size_t products = 0;
     for (size_t u = 0; u + 1 < vertex_start_.size(); ++u) {
       const auto count = static_cast<size_t>(vertex_start_[u + 1] - vertex_start_[u]);
       products += count * count;
     }
-    target_.reserve(products);
+    offset_.reserve(products);
     for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
       for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a)
-        for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b)
-          target_.push_back(
-              static_cast<int>(position(row_at_[static_cast<size_t>(a)], row_at_[static_cast<size_t>(b)])));
+        for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b) {
+          const int column = row_at_[static_cast<size_t>(b)];
+          offset_.push_back(static_cast<uint16_t>(position(row_at_[static_cast<size_t>(a)], column) - outer[column]));
+        }
     diagonal_.resize(static_cast<size_t>(rows));
     for (Eigen::Index r = 0; r < rows; ++r) diagonal_[static_cast<size_t>(r)] = position(r, r);
   }
@@ -228,6 +238,7 @@ class NormalMatrix {
     double* values = matrix_.valuePtr();
     // -0 + x is x for every x, so each sum starts as the product's first term.
     std::fill(values, values + matrix_.nonZeros(), -0.0);
+    const int* outer = matrix_.outerIndexPtr();
     const double* j = jacobian.valuePtr();
     size_t t = 0;
     for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
@@ -235,7 +246,7 @@ class NormalMatrix {
         const double* x = j + value_at_[static_cast<size_t>(a)];
         for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b, ++t) {
           const double* y = j + value_at_[static_cast<size_t>(b)];
-          double& sum = values[target_[t]];
+          double& sum = values[outer[row_at_[static_cast<size_t>(b)]] + offset_[t]];
           sum += x[0] * y[0];
           sum += x[1] * y[1];
           sum += x[2] * y[2];
@@ -259,7 +270,7 @@ class NormalMatrix {
   std::vector<int> vertex_start_;  // free vertex -> its first entry in row_at_ / value_at_
   std::vector<int> row_at_;        // the rows holding the vertex, ascending
   std::vector<int> value_at_;      // the position of J(row, 3u) in J's values
-  std::vector<int> target_;        // positions in the values (int: a 1M-row J J^T has about 20M)
+  std::vector<uint16_t> offset_;   // each product's offset in its column (a 1M-row J J^T has about 20M)
   std::vector<Eigen::Index> diagonal_;
   Eigen::SparseMatrix<double> matrix_;
 };
@@ -392,7 +403,9 @@ class RegionPolish {
         n_(start.rows()),
         free_of_(static_cast<size_t>(n_), -1),
         row_of_(static_cast<size_t>(n_), -1),
-        crease_guard_(triangles, reference_normals, options.crease_groups, options.crease_growth),
+        crease_guard_(options.crease_guard != nullptr
+                          ? *options.crease_guard
+                          : CreaseGuard(triangles, reference_normals, options.crease_groups, options.crease_growth)),
         system_(options.direct_rows, options.spare_cores),
         current_(start) {
     for (Eigen::Index v = 0; v < n_; ++v)
@@ -740,6 +753,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     local_normals.row(i) = reference_normals.row(f);
   }
   PolishOptions local_options = options;
+  local_options.crease_guard = nullptr;  // the whole mesh's
   if (!options.crease_groups.empty()) {
     local_options.crease_groups.resize(static_cast<size_t>(face_count));
     for (Eigen::Index i = 0; i < face_count; ++i)

@@ -37,6 +37,7 @@
 #pragma once
 
 #include "core/concurrent_jobs.h"
+#include "core/measures.h"
 #include "core/types.h"
 
 #include <Eigen/Core>
@@ -83,6 +84,10 @@ struct PolishOptions {
   // empty for one group.
   double crease_growth = 0.0;
   std::vector<int> crease_groups;
+  // Null, or that guard on the whole mesh with `reference_normals`, where
+  // the caller has made it (PatchRun::crease_guard): a polish of the whole
+  // mesh shares it instead of making its own (24 MB at 1M faces).
+  const CreaseGuard* crease_guard = nullptr;
   // > 0: the polish gives up (PolishResult::gave_up) once a kept step leaves
   // the vertices farther from `reference` than this, RMS over the whole mesh
   // (caller's units): least motion's candidates win only by moving less than

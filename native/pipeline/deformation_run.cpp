@@ -67,8 +67,7 @@ DeformationRun::DeformationRun(const PatchRun& run, TargetField targets, Pipelin
       deformation_(system_of(run, targets_.targets())),
       step_(std::in_place, deformation_, run.input.positions, run.input.normals, run.input.triangles,
             run.input.connectivity, formulation_of(run.input.options) == Formulation::decoupled, run.input.limit,
-            run.input.options.mode,
-            CreaseGuard(run.input.triangles, run.input.normals, run.patch_ids, run.crease_growth)),
+            run.input.options.mode, run.crease_guard),
       chosen_curves_(targets_.curves()),
       chosen_targets_(targets_.targets()) {
   stats_.time_decompose_ms = elapsed_ms(decompose_start_);

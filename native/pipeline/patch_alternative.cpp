@@ -31,8 +31,7 @@ Judge judge_of(const PatchRun& run) {
   measured.figures.max = input.before.max_abs;
   measured.figures.score = score(measured.defects);
   return Judge(input.triangles, input.measured.interior, input.connectivity, input.normals, score, std::move(measured),
-               input.closed, input.object,
-               CreaseGuard(input.triangles, input.normals, run.patch_ids, run.crease_growth));
+               input.closed, input.object, run.crease_guard);
 }
 
 // A mesh made of planes, cylinders and cones, its curvature on the seams

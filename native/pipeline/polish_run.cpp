@@ -138,6 +138,7 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   if (guarded) {
     result.crease_growth = run.crease_growth;
     result.crease_groups = run.patch_ids;
+    result.crease_guard = &run.crease_guard;
   }
   result.active_defect = std::min(result.active_defect, kPolishActiveShare * input_mean);
   result.stall_flat_share = kChoiceStallFlatShare;

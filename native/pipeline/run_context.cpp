@@ -82,6 +82,7 @@ PatchRun patch_run(const MeasuredInput& input, const Patches& patches) {
   // A segmented mesh is doubly curved: made flat vertex by vertex within its
   // patches it crumples; one patch may not fold.
   run.crease_growth = run.piecewise ? kSegmentedCreaseGrowth : kOnePatchCreaseGrowth;
+  run.crease_guard = CreaseGuard(input.triangles, input.normals, run.patch_ids, run.crease_growth);
   return run;
 }
 

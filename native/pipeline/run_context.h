@@ -99,6 +99,9 @@ struct PatchRun {
   // The crease guard's growth (rad) inside a patch: no step may crease an
   // edge between two faces of one patch by more than this over the input.
   double crease_growth = 0.0;
+  // That guard on the input's normals and the patches, made once for the
+  // run's judge, deformation and polishes (a copy shares it).
+  CreaseGuard crease_guard;
 };
 
 // The PatchRun of `patches` on `input`.

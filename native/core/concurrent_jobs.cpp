@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -10,6 +11,10 @@
 
 namespace developable {
 namespace {
+
+// How often BackgroundJob::join reports while it waits: a cancel is heard
+// within it.
+constexpr std::chrono::milliseconds kJoinReportInterval{20};
 
 struct Report {
   double fraction;
@@ -179,6 +184,54 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
   if (cancelled) std::rethrow_exception(cancelled);
   for (const auto& error : errors)
     if (error) std::rethrow_exception(error);
+}
+
+BackgroundJob::BackgroundJob(Job job, SpareCores* spare) : job_(std::move(job)), spare_(spare) {
+  const auto run = [this] {
+    try {
+      job_(Progress{&BackgroundJob::still_wanted, this, 0.0, 1.0});
+    } catch (...) {
+      error_ = std::current_exception();
+    }
+  };
+  try {
+    if (spare_) spare_->start_working();
+    thread_ = std::thread([this, run] {
+      run();
+      if (spare_) spare_->stop_working();
+      ended_ = true;
+    });
+  } catch (...) {
+    if (spare_) spare_->stop_working();  // no thread: join() runs the job
+  }
+}
+
+BackgroundJob::~BackgroundJob() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+bool BackgroundJob::still_wanted(double, const char*, void* user) {
+  return !static_cast<const BackgroundJob*>(user)->stop_.load();
+}
+
+void BackgroundJob::join(const Progress& progress, double fraction, const char* stage) {
+  if (joined_) return;
+  joined_ = true;
+  if (thread_.joinable()) {
+    while (!ended_) {
+      progress.report(fraction, stage);
+      std::this_thread::sleep_for(kJoinReportInterval);
+    }
+    thread_.join();
+  } else {
+    try {
+      job_(Progress{&BackgroundJob::still_wanted, this, 0.0, 1.0});
+    } catch (...) {
+      error_ = std::current_exception();
+    }
+  }
+  if (error_) std::rethrow_exception(error_);
 }
 
 void parallel_for(Eigen::Index count, Eigen::Index chunk, int threads,

@@ -23,7 +23,9 @@
 #include <Eigen/Core>
 
 #include <atomic>
+#include <exception>
 #include <functional>
+#include <thread>
 #include <vector>
 
 namespace developable {
@@ -74,6 +76,38 @@ class SpareCores {
 //   spare: null, or the run's spare cores: each thread counts as working
 //   while it runs jobs, the calling thread not while it waits for the others.
 void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress, SpareCores* spare = nullptr);
+
+// One job on a thread of its own, started now and joined when the caller
+// needs its result: work that depends on the input alone (the polish of the
+// raw input) runs beside the stages before the ones that need it. Its
+// progress reaches no callback (the caller's is called from the calling
+// thread only); it hears only "stop?", which is "yes" once the job is
+// abandoned or the BackgroundJob is destroyed (a cancel unwinding the
+// caller), so it stops at its next report. Where no thread can be started,
+// the job runs in join(). The thread counts as working in `spare` while it
+// runs.
+class BackgroundJob {
+ public:
+  BackgroundJob(Job job, SpareCores* spare);
+  ~BackgroundJob();
+  BackgroundJob(const BackgroundJob&) = delete;
+  BackgroundJob& operator=(const BackgroundJob&) = delete;
+
+  // Waits for the job to end, reporting `progress` (at `fraction`, `stage`)
+  // now and then to hear a cancel; rethrows what the job threw. Once only.
+  void join(const Progress& progress, double fraction, const char* stage);
+
+ private:
+  static bool still_wanted(double fraction, const char* stage, void* user);
+
+  Job job_;
+  SpareCores* spare_;
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> ended_{false};
+  std::exception_ptr error_;
+  std::thread thread_;
+  bool joined_ = false;
+};
 
 // The threads that `threads` asks for: itself when positive, else one per
 // core (at least 1).

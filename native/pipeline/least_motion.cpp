@@ -5,7 +5,9 @@
 #include "deformation/jet_denoise.h"
 #include "deformation/move_limit.h"
 
+#include <array>
 #include <atomic>
+#include <future>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -46,7 +48,7 @@ constexpr double kProjectionSmoothing = 90.0;
 
 // A start of a candidate polish.
 struct Start {
-  Positions positions;
+  Positions positions;  // none for the polish of the input, which starts from the input itself
   ResultOrigin origin;  // of its polish, should it win
   double move;          // RMS from the input
   PolishResult polished;
@@ -108,11 +110,16 @@ std::vector<int> smoothing_groups(const PatchRun& run) {
   return run.piecewise && run.sheets ? run.patch_ids : std::vector<int>{};
 }
 
-}  // namespace
-
-bool smooths_ahead(const PipelineOptions& options) {
-  return options.polish_smoothed_input && thread_count(options.threads) > 1;
-}
+// The smoothings of the input least motion's starts are made of: with the
+// feature guard (the smoothed start and its step) and, on sheets (one patch
+// or crease pieces), without (the projection's start); on crease pieces
+// piece by piece, each piece's border kept. Each within the move limit.
+// They depend on the input alone (LeastMotionAhead makes them beside the
+// deformation).
+struct InputSmoothings {
+  Positions guarded;
+  std::optional<Positions> unguarded;  // on sheets only
+};
 
 InputSmoothings smooth_input(const PatchRun& run) {
   const MeasuredInput& input = run.input;
@@ -130,8 +137,6 @@ InputSmoothings smooth_input(const PatchRun& run) {
   }
   return out;
 }
-
-namespace {
 
 // The projection's start: the unguarded smoothing, its turned sliver faces
 // given back the input's corners.
@@ -214,71 +219,112 @@ PolishResult polish_start(const PatchRun& run, const Start& start, PolishOptions
     options.active_defect = 0.0;
     options.max_iterations = kProjectionSteps + kProjectionPolishSteps;
   }
-  return polish_defects(start.positions, input.positions, input.normals, input.triangles, run.scored, run.pinned,
-                        options, progress);
+  const Positions& from = start.origin == ResultOrigin::input_polish ? input.positions : start.positions;
+  return polish_defects(from, input.positions, input.normals, input.triangles, run.scored, run.pinned, options,
+                        progress);
 }
 
 }  // namespace
 
-void compete_least_motion(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
-                          std::optional<InputSmoothings> smoothings,
-                          const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
-                          const Progress& progress) {
-  const MeasuredInput& input = run.input;
-  const bool smoothed_candidates = input.options.polish_smoothed_input;
-  // Made here where not made ahead, only once a start needs them.
-  const auto made = [&]() -> InputSmoothings& {
-    if (!smoothings) smoothings = smooth_input(run);
-    return *smoothings;
-  };
-  // A deformed result's smoothed start takes its step first, so that the
-  // deformation's system (its factor: 360 MB of a 1M-face sheet's peak) goes
-  // before any polish runs; the step is wasted only where the smoothing
-  // turns out to move the input too little to compete (same_start).
-  std::optional<Positions> stepped;
-  if (smoothed_candidates && deformed) {
-    stepped = made().guarded;
-    deformation.step_from(*stepped);
+// Least motion's polishes that depend on the input alone, each taken once
+// by whichever thread comes to it first (the ahead thread or the run's).
+struct LeastMotionAhead::Work {
+  // With the options polish_plan gives a deformed run.
+  explicit Work(const PatchRun& run) : run(run) {
+    PolishPlan plan = polish_plan(run, true);
+    input_options = std::move(plan.raw_input);
+    input_options.late_give_up_move = &deformed_only_move;
+    smoothed_options = plan.candidates;
+    smoothed_options.late_give_up_move = &deformed_only_move;
+    late_options = std::move(plan.candidates);
+    late_options.late_give_up_move = &choice_move;
   }
-  deformation.release();
-  // On more than one thread every polish runs at once ("ahead"), each
-  // candidate giving up past the choice's move (which its polish sets while
-  // they run), the order then taking only what the one-by-one order would
-  // have: the cores are not idle while the long polish of the input runs
-  // beside the choice's, and the result is the same (below).
-  const bool ahead = smooths_ahead(input.options);
-  std::optional<SmoothedStarts> smoothed_ahead;
-  if (ahead) smoothed_ahead = smoothed_starts(run, std::move(made()), std::move(stepped));
 
+  // The choice's move, once its polish has run: every polish here gives up
+  // past it. The polishes of the raw input and of the smoothed start are
+  // candidates only where something was deformed: else they stop at once.
+  void set_choice_move(double move, bool deformed) {
+    choice_move = move;
+    deformed_only_move = deformed ? move : std::numeric_limits<double>::min();
+  }
+
+  // The early polishes, in the order they are taken (the longest first).
+  enum Polish { raw_input, projected, smoothed, count };
+
+  // Polishes `polish` unless another thread took it (or it is dropped).
+  void take(Polish polish, const Progress& progress) {
+    if (taken[polish].exchange(true)) return;
+    switch (polish) {
+      case raw_input:
+        input_start.polished = polish_start(run, input_start, input_options, progress);
+        break;
+      case projected:
+        if (projected_start) projected_start->polished = polish_start(run, *projected_start, late_options, progress);
+        break;
+      case smoothed:
+        smoothed_start->polished = polish_start(run, *smoothed_start, smoothed_options, progress);
+        break;
+      default:
+        break;
+    }
+  }
+
+  // The ahead thread: the smoothings and the starts made of them, then
+  // every polish not yet taken.
+  void run_ahead(const Progress& progress) {
+    try {
+      InputSmoothings smoothings = smooth_input(run);
+      const MeasuredInput& input = run.input;
+      smoothed_start = Start{std::move(smoothings.guarded), ResultOrigin::smoothed_input_polish, 0.0, {}};
+      smoothed_start->move = motion_of(smoothed_start->positions, input.positions).rms;
+      if (smoothings.unguarded) {
+        Positions start = projection_start(run, std::move(*smoothings.unguarded));
+        const double move = motion_of(start, input.positions).rms;
+        projected_start = Start{std::move(start), ResultOrigin::projected_input, move, {}, true};
+      }
+    } catch (...) {
+      starts_made.set_exception(std::current_exception());
+      throw;
+    }
+    starts_made.set_value();
+    for (int k = 0; k < count; ++k) take(static_cast<Polish>(k), progress);
+  }
+
+  const PatchRun& run;
   std::atomic<double> choice_move{0.0};
-  PolishOptions late_options = plan.candidates;
-  late_options.late_give_up_move = &choice_move;
-  PolishOptions input_options = plan.raw_input;
-  input_options.late_give_up_move = &choice_move;
-  const auto polish_choice_job = [&](const Progress& share) {
-    polish_choice(share);
-    choice_move = motion_of(choice.positions, input.positions).rms;
-  };
-  Start input_start{input.positions, ResultOrigin::input_polish, 0.0, {}};
-  const auto polish_input_job = [&](const Progress& share) {
-    input_start.polished = polish_start(run, input_start, input_options, share);
-  };
-  // The polish of the input gives up past the choice's move once the
-  // choice's polishes have set it (PolishOptions::late_give_up_move); where
-  // nothing was deformed the choice's polish is the polish of the input.
-  std::vector<Job> first;
-  first.push_back(polish_choice_job);
-  if (deformed) first.push_back(polish_input_job);
-  // The projection (the longest of them) first.
-  if (ahead)
-    for (bool projected : {true, false})
-      for (Start& start : smoothed_ahead->starts)
-        if (start.projected == projected)
-          first.push_back(
-              [&](const Progress& share) { start.polished = polish_start(run, start, late_options, share); });
-  run_concurrently(first, input.options.threads, progress.sub(0.0, ahead ? 0.9 : 0.6), input.spare_cores);
+  std::atomic<double> deformed_only_move{0.0};
+  PolishOptions input_options;     // the raw input's
+  PolishOptions smoothed_options;  // the smoothed start's
+  PolishOptions late_options;      // the projected and stepped starts'
 
-  Contest contest(input, judge.input().figures);
+  Start input_start{{}, ResultOrigin::input_polish, 0.0, {}};
+  std::optional<Start> smoothed_start;   // the guarded smoothing
+  std::optional<Start> projected_start;  // on sheets
+  std::promise<void> starts_made;
+  std::shared_future<void> starts_ready = starts_made.get_future().share();
+  std::array<std::atomic<bool>, count> taken{};
+};
+
+LeastMotionAhead::LeastMotionAhead(const PatchRun& run)
+    : work_(std::make_unique<Work>(run)),
+      thread_([work = work_.get()](const Progress& progress) { work->run_ahead(progress); }, run.input.spare_cores) {}
+
+LeastMotionAhead::~LeastMotionAhead() = default;
+
+namespace {
+
+// The candidates, their polishes run: the choice, the polish of the input
+// (where `input` is not null) and the smoothed starts; then the order's
+// winner is the choice. Polished against the choice's move
+// (PolishOptions::late_give_up_move), a start's polish is the one the
+// one-by-one rounds would have given it, or went past their bound and loses
+// as it would have, unless that bound is the larger and it gave up between
+// them (where the input's polish, more developable than the choice, moved
+// farther): that one is polished again here.
+void judge_candidates(const PatchRun& run, const PolishPlan& plan, Judge& judge, Choice& choice, const Start* input,
+                      std::optional<SmoothedStarts> starts, bool polished_ahead, const Progress& progress) {
+  const MeasuredInput& input_mesh = run.input;
+  Contest contest(input_mesh, judge.input().figures);
   if (choice.improved) contest.add(choice, false);
   // A polish that went past the bound it was given, or as far as the winner
   // so far (PolishResult::largest_move), cannot win; nor a start as far.
@@ -287,7 +333,7 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
     if (polished.iterations == 0 || (!start.projected && start.move >= contest.bound()) ||
         polished.largest_move > given_bound || polished.largest_move > contest.bound())
       return;
-    const Measured now = judge.measure(polished.positions, face_normals(polished.positions, input.triangles));
+    const Measured now = judge.measure(polished.positions, face_normals(polished.positions, input_mesh.triangles));
     if (!judge.admissible(now)) return;
     Choice candidate = choice;
     candidate.keep(polished.positions, now, start.origin);
@@ -296,23 +342,17 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
   };
   // Which smoothed starts take part is decided against the choice alone;
   // the polish of the input then sets the bound they must stay within.
-  std::optional<SmoothedStarts> starts;
+  // Nothing to compete with when even the polish of the input found nothing
+  // better.
+  if (!choice.improved) starts.reset();
   std::vector<bool> entered;
-  // Nothing to compete with when even the polish of the input found nothing better.
-  if (smoothed_candidates && choice.improved) {
-    starts = ahead ? std::move(*smoothed_ahead) : smoothed_starts(run, std::move(made()), std::move(stepped));
-    entered = enter_starts(run, *starts, contest);
-  }
-  judge_candidate(input_start, std::numeric_limits<double>::infinity());
+  if (starts) entered = enter_starts(run, *starts, contest);
+  if (input) judge_candidate(*input, std::numeric_limits<double>::infinity());
   if (starts) {
     // The smoothed starts, polished beside each other against the winner so
     // far: one already farther is not polished (the benchmark's noise-free
     // wavy cone spent 300 ms polishing two that lost so), and a polish gives
-    // up once it is farther. Polished ahead against the choice's move, a
-    // start's polish is the one it would have had, or went past the bound
-    // and loses as it would have, unless that bound is the larger and it
-    // gave up between them (where the input's polish, more developable than
-    // the choice, moved farther): that one is polished again.
+    // up once it is farther.
     PolishOptions bound_options = plan.candidates;
     bound_options.give_up_move = contest.bound();
     std::vector<Job> polishes;
@@ -322,15 +362,130 @@ void compete_least_motion(const PatchRun& run, const PolishPlan& plan, Deformati
         start.polished = PolishResult{};
         continue;
       }
-      if (ahead && !(start.polished.gave_up && start.polished.largest_move <= bound_options.give_up_move)) continue;
+      if (polished_ahead && !(start.polished.gave_up && start.polished.largest_move <= bound_options.give_up_move))
+        continue;
       polishes.push_back(
           [&](const Progress& share) { start.polished = polish_start(run, start, bound_options, share); });
     }
-    run_concurrently(polishes, input.options.threads, progress.sub(ahead ? 0.9 : 0.6, 1.0), input.spare_cores);
+    run_concurrently(polishes, input_mesh.options.threads, progress, input_mesh.spare_cores);
     for (const Start& start : starts->starts) judge_candidate(start, bound_options.give_up_move);
   }
   const int winner = contest.winner();
   if (winner >= 0) choice = std::move(contest.candidate(winner));
+}
+
+// One thread: the choice's and the input's polishes, then the smoothed
+// starts' against the winner so far.
+void compete_in_rounds(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
+                       const std::function<void(const Progress&)>& polish_choice, Judge& judge, Choice& choice,
+                       const Progress& progress) {
+  const MeasuredInput& input = run.input;
+  const bool smoothed_candidates = input.options.polish_smoothed_input;
+  std::optional<InputSmoothings> smoothings;
+  // A deformed result's smoothed start takes its step first, so that the
+  // deformation's system goes before any polish runs.
+  std::optional<Positions> stepped;
+  if (smoothed_candidates && deformed) {
+    smoothings = smooth_input(run);
+    stepped = smoothings->guarded;
+    deformation.step_from(*stepped);
+  }
+  deformation.release();
+  // The polish of the input gives up past the choice's move once the
+  // choice's polishes have set it (PolishOptions::late_give_up_move); where
+  // nothing was deformed the choice's polish is the polish of the input.
+  std::atomic<double> choice_move{0.0};
+  PolishOptions input_options = plan.raw_input;
+  input_options.late_give_up_move = &choice_move;
+  Start input_start{{}, ResultOrigin::input_polish, 0.0, {}};
+  std::vector<Job> first{[&](const Progress& share) {
+    polish_choice(share);
+    choice_move = motion_of(choice.positions, input.positions).rms;
+  }};
+  if (deformed)
+    first.push_back(
+        [&](const Progress& share) { input_start.polished = polish_start(run, input_start, input_options, share); });
+  run_concurrently(first, input.options.threads, progress.sub(0.0, 0.6), input.spare_cores);
+  std::optional<SmoothedStarts> starts;
+  if (smoothed_candidates && choice.improved) {
+    if (!smoothings) smoothings = smooth_input(run);
+    starts = smoothed_starts(run, std::move(*smoothings), std::move(stepped));
+  }
+  judge_candidates(run, plan, judge, choice, deformed ? &input_start : nullptr, std::move(starts), false,
+                   progress.sub(0.6, 1.0));
+}
+
+// More threads: the polishes least motion made ahead (or makes now where no
+// thread took them yet) beside the choice's and the stepped start's.
+void compete_ahead(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
+                   LeastMotionAhead& ahead, const std::function<void(const Progress&)>& polish_choice, Judge& judge,
+                   Choice& choice, const Progress& progress) {
+  const MeasuredInput& input = run.input;
+  LeastMotionAhead::Work& work = ahead.work();
+  // Where nothing was deformed the choice's polish is the polish of the
+  // input (with the choice's options) and the smoothed start is no
+  // candidate: neither polish is begun from here on, and one begun stops.
+  if (!deformed) {
+    work.taken[LeastMotionAhead::Work::raw_input] = true;
+    work.taken[LeastMotionAhead::Work::smoothed] = true;
+    work.set_choice_move(0.0, false);
+  }
+  work.starts_ready.get();
+  std::optional<Start> stepped;
+  if (deformed) {
+    Positions positions = work.smoothed_start->positions;
+    deformation.step_from(positions);
+    // A step that left the smoothing as it was (where the fold-safe step's
+    // reverts do not end, it takes none) is not polished: it would tie with
+    // the smoothed start, which comes first in the order and wins ties.
+    if (positions != work.smoothed_start->positions) {
+      const double move = motion_of(positions, input.positions).rms;
+      stepped = Start{std::move(positions), ResultOrigin::smoothed_step_polish, move, {}};
+    }
+  }
+  deformation.release();
+  std::vector<Job> jobs;
+  jobs.push_back([&](const Progress& share) {
+    polish_choice(share);
+    work.set_choice_move(motion_of(choice.positions, input.positions).rms, deformed);
+  });
+  if (stepped)
+    jobs.push_back(
+        [&](const Progress& share) { stepped->polished = polish_start(run, *stepped, work.late_options, share); });
+  for (int k = 0; k < LeastMotionAhead::Work::count; ++k)
+    jobs.push_back(
+        [&work, k](const Progress& share) { work.take(static_cast<LeastMotionAhead::Work::Polish>(k), share); });
+  // The ahead thread is the other core's.
+  const int threads = std::max(1, static_cast<int>(thread_count(input.options.threads)) - 1);
+  run_concurrently(jobs, threads, progress.sub(0.0, 0.9), input.spare_cores);
+  ahead.join(progress.sub(0.0, 0.9));
+
+  SmoothedStarts smoothed;
+  smoothed.smoothing_move = work.smoothed_start->move;
+  if (deformed) {
+    smoothed.starts.push_back(std::move(*work.smoothed_start));
+    if (stepped) smoothed.starts.push_back(std::move(*stepped));
+  } else {
+    smoothed.unstarted_smoothing = std::move(work.smoothed_start->positions);
+  }
+  if (work.projected_start) smoothed.starts.push_back(std::move(*work.projected_start));
+  judge_candidates(run, plan, judge, choice, deformed ? &work.input_start : nullptr, std::move(smoothed), true,
+                   progress.sub(0.9, 1.0));
+}
+
+}  // namespace
+
+bool runs_ahead(const PipelineOptions& options) {
+  return options.polish_smoothed_input && thread_count(options.threads) > 1;
+}
+
+void compete_least_motion(const PatchRun& run, const PolishPlan& plan, DeformationRun& deformation, bool deformed,
+                          LeastMotionAhead* ahead, const std::function<void(const Progress&)>& polish_choice,
+                          Judge& judge, Choice& choice, const Progress& progress) {
+  if (ahead)
+    compete_ahead(run, plan, deformation, deformed, *ahead, polish_choice, judge, choice, progress);
+  else
+    compete_in_rounds(run, plan, deformation, deformed, polish_choice, judge, choice, progress);
 }
 
 }  // namespace developable

@@ -104,31 +104,28 @@ PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches
     return result;
   }
 
-  // Least motion's smoothings depend on the input alone: on more than one
-  // thread they are made while one core factors the deformation's system.
-  std::optional<DeformationRun> deformation;
-  std::optional<InputSmoothings> smoothings;
-  const auto factor = [&](const Progress& share) { deformation.emplace(run, std::move(targets), stats, share); };
-  if (polish_enabled(input.options) && smooths_ahead(input.options))
-    run_concurrently({factor, [&](const Progress&) { smoothings = smooth_input(run); }}, input.options.threads,
-                     progress.sub(0.08, 0.1), input.spare_cores);
-  else
-    factor(progress.sub(0.08, 0.1));
-  deformation->iterate(judge, choice, progress);
+  // Least motion's smoothings and the polishes of its starts that depend on
+  // the input alone start on a core of their own while the deformation runs.
+  std::optional<LeastMotionAhead> ahead;
+  if (polish_enabled(input.options) && runs_ahead(input.options)) ahead.emplace(run);
+  DeformationRun deformation(run, std::move(targets), stats, progress.sub(0.08, 0.1));
+  deformation.iterate(judge, choice, progress);
   if (polish_enabled(input.options)) {
     const auto polish_start = Clock::now();
     const bool deformed = choice.improved;
     const PolishPlan plan = polish_plan(run, deformed);
     const auto polish = [&](const Progress& share) { polish_choice(run, plan, judge, choice, share); };
-    if (plan.least_motion)
-      compete_least_motion(run, plan, *deformation, deformed, std::move(smoothings), polish, judge, choice,
+    if (plan.least_motion) {
+      compete_least_motion(run, plan, deformation, deformed, ahead ? &*ahead : nullptr, polish, judge, choice,
                            progress.sub(0.95, 1.0));
-    else
+    } else {
+      ahead.reset();
       polish(progress.sub(0.95, 1.0));
+    }
     stats.time_polish_ms = elapsed_ms(polish_start);
   }
-  result.curves = deformation->chosen_curves();
-  result.target_normals = deformation->chosen_targets();
+  result.curves = deformation.chosen_curves();
+  result.target_normals = deformation.chosen_targets();
 
   Rejections rejected = judge.rejected();
   if (!choice.improved && run.piecewise) rejected.developable_patches = developable_as_split(run);

@@ -1,6 +1,7 @@
 // concurrent_jobs.h: every job runs once, the callback only on the calling
 // thread and in job order, cancels stop the others, a job's own failure
-// comes first; parallel_for covers its range once in fixed chunks.
+// comes first; a background job runs beside the caller and stops when
+// dropped; parallel_for covers its range once in fixed chunks.
 #include "core/concurrent_jobs.h"
 
 #include <gtest/gtest.h>
@@ -147,6 +148,70 @@ TEST(ConcurrentJobs, AJobsOwnFailureComesBeforeTheCancelsItCaused) {
       EXPECT_STREQ(e.what(), "out of luck");
     }
   }
+}
+
+// BackgroundJob: the job runs beside the caller and its reports reach no
+// callback; join hears the caller's cancel while it waits; what the job
+// threw comes back at join; destroyed unjoined, the job stops at its next
+// report.
+TEST(BackgroundJob, RunsBesideTheCallerAndJoinRethrowsItsFailure) {
+  std::atomic<bool> caller_went_on{false};
+  std::atomic<bool> seen_beside{false};
+  std::thread::id job_thread;
+  SpareCores spare(2);
+  {
+    BackgroundJob job(
+        [&](const Progress& progress) {
+          job_thread = std::this_thread::get_id();
+          const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+          while (!caller_went_on && std::chrono::steady_clock::now() < deadline) progress.report(0.5, "beside");
+          seen_beside = caller_went_on.load();
+          throw std::runtime_error("out of luck");
+        },
+        &spare);
+    EXPECT_EQ(spare.take(1), 0u) << "the job's thread counts as working";
+    caller_went_on = true;
+    Recorder recorder;
+    try {
+      job.join(recorder.progress(), 0.5, "waiting");
+      FAIL() << "nothing rethrown";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "out of luck");
+    }
+    for (const std::thread::id& caller : recorder.callers) EXPECT_EQ(caller, std::this_thread::get_id());
+    for (const std::string& stage : recorder.stages) EXPECT_EQ(stage, "waiting");
+  }
+  EXPECT_TRUE(seen_beside);
+  EXPECT_NE(job_thread, std::this_thread::get_id());
+  EXPECT_EQ(spare.take(1), 1u) << "its core is spare again";
+}
+
+TEST(BackgroundJob, JoinHearsACancelAndTheJobStopsWhenDestroyed) {
+  std::atomic<bool> stopped{false};
+  const Job endless = [&](const Progress& progress) {
+    try {
+      for (;;) {
+        progress.report(0.5, "endless");
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    } catch (const EngineError& e) {
+      stopped = e.status() == Status::cancelled;
+      throw;
+    }
+  };
+  Recorder recorder;
+  recorder.cancel_after = 2;
+  try {
+    BackgroundJob job(endless, nullptr);
+    job.join(recorder.progress(), 0.5, "waiting");
+    FAIL() << "not cancelled";
+  } catch (const EngineError& e) {
+    EXPECT_EQ(e.status(), Status::cancelled);
+  }
+  EXPECT_TRUE(stopped);
+  stopped = false;
+  { const BackgroundJob unjoined(endless, nullptr); }
+  EXPECT_TRUE(stopped) << "destroyed unjoined, it stopped at its next report";
 }
 
 // Every item once, in the same chunks whatever the thread count; a loop of

@@ -219,6 +219,19 @@ void BackgroundJob::join(const Progress& progress, double fraction, const char* 
   if (joined_) return;
   joined_ = true;
   if (thread_.joinable()) {
+    // The calling thread's core is spare while it waits (the job's products
+    // may take it); counted back in however the wait ends.
+    struct Waiting {
+      SpareCores* spare;
+      explicit Waiting(SpareCores* s) : spare(s) {
+        if (spare) spare->stop_working();
+      }
+      ~Waiting() {
+        if (spare) spare->start_working();
+      }
+      Waiting(const Waiting&) = delete;
+      Waiting& operator=(const Waiting&) = delete;
+    } waiting(spare_);
     while (!ended_) {
       progress.report(fraction, stage);
       std::this_thread::sleep_for(kJoinReportInterval);

@@ -94,7 +94,8 @@ class BackgroundJob {
   BackgroundJob& operator=(const BackgroundJob&) = delete;
 
   // Waits for the job to end, reporting `progress` (at `fraction`, `stage`)
-  // now and then to hear a cancel; rethrows what the job threw. Once only.
+  // now and then to hear a cancel, the calling thread's core spare
+  // meanwhile; rethrows what the job threw. Once only.
   void join(const Progress& progress, double fraction, const char* stage);
 
  private:

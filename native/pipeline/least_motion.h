@@ -29,10 +29,11 @@ bool runs_ahead(const PipelineOptions& options);
 
 // Least motion's work that depends on the input alone, started ahead of the
 // deformation on more than one thread (runs_ahead): on a thread of its
-// own, the smoothings and the starts made of them, then the polishes of the
-// raw input, of the projected start and of the smoothed start, with the
-// options polish_plan gives a deformed run; compete_least_motion polishes on
-// the run's threads whichever of them that thread has not begun. The
+// own, the smoothings and the starts made of them, then, on one patch, the
+// polishes of the raw input, of the projected start and of the smoothed
+// start, with the options polish_plan gives a deformed run;
+// compete_least_motion polishes on the run's threads whichever of them that
+// thread has not begun. The
 // factorisation and the deformation's iterations leave a core idle (a 1M-face
 // sheet: 14 s at 1.2 cores), which the polish of the raw input, least
 // motion's longest, takes. Destroyed unused (nothing deformed on pieces; a

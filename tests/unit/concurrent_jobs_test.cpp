@@ -186,6 +186,28 @@ TEST(BackgroundJob, RunsBesideTheCallerAndJoinRethrowsItsFailure) {
   EXPECT_EQ(spare.take(1), 1u) << "its core is spare again";
 }
 
+TEST(BackgroundJob, TheCallersCoreIsSpareWhileItWaits) {
+  SpareCores spare(2);
+  std::atomic<bool> waiting{false};
+  unsigned taken = 0;
+  BackgroundJob job(
+      [&](const Progress&) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (!waiting) std::this_thread::yield();
+        while (taken == 0 && std::chrono::steady_clock::now() < deadline) {
+          taken = spare.take(1);
+          std::this_thread::yield();
+        }
+        spare.give_back(taken);
+      },
+      &spare);
+  EXPECT_EQ(spare.take(1), 0u) << "both cores work";
+  waiting = true;
+  job.join(Progress{}, 0.0, "waiting");
+  EXPECT_EQ(taken, 1u) << "the job took the waiting caller's core";
+  EXPECT_EQ(spare.take(2), 1u) << "after the join, the calling thread's core only is busy";
+}
+
 TEST(BackgroundJob, JoinHearsACancelAndTheJobStopsWhenDestroyed) {
   std::atomic<bool> stopped{false};
   const Job endless = [&](const Progress& progress) {

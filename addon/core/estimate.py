@@ -33,11 +33,11 @@ LARGE_MESH_FACES = 100_000
 
 # bench/scans.py: begin
 # Wall seconds = a * (faces / 1e5)^b; measured runs at 100k faces and more
-# over the fit from low to high (bench/scans.py, 2026-12-06 13:37 UTC,
+# over the fit from low to high (bench/scans.py, 2026-12-06 16:41 UTC,
 # AMD EPYC, 2 cores).
 MEASURED = {
-    "sheet": {"a": 3.42, "b": 0.823, "low": 0.559, "high": 2.55},
-    "object": {"a": 41.4, "b": 0.99, "low": 0.892, "high": 1.05},
+    "sheet": {"a": 3.4, "b": 0.788, "low": 0.513, "high": 2.53},
+    "object": {"a": 42.7, "b": 0.996, "low": 0.911, "high": 1.06},
 }
 # bench/scans.py: end
 

@@ -199,7 +199,9 @@ BackgroundJob::BackgroundJob(Job job, SpareCores* spare) : job_(std::move(job)),
     thread_ = std::thread([this, run] {
       run();
       if (spare_) spare_->stop_working();
+      const std::lock_guard<std::mutex> lock(mutex_);
       ended_ = true;
+      changed_.notify_all();
     });
   } catch (...) {
     if (spare_) spare_->stop_working();  // no thread: join() runs the job
@@ -232,10 +234,14 @@ void BackgroundJob::join(const Progress& progress, double fraction, const char* 
       Waiting(const Waiting&) = delete;
       Waiting& operator=(const Waiting&) = delete;
     } waiting(spare_);
+    std::unique_lock<std::mutex> lock(mutex_);
     while (!ended_) {
+      lock.unlock();
       progress.report(fraction, stage);
-      std::this_thread::sleep_for(kJoinReportInterval);
+      lock.lock();
+      changed_.wait_for(lock, kJoinReportInterval, [this] { return ended_; });
     }
+    lock.unlock();
     thread_.join();
   } else {
     try {

@@ -23,8 +23,10 @@
 #include <Eigen/Core>
 
 #include <atomic>
+#include <condition_variable>
 #include <exception>
 #include <functional>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -104,7 +106,9 @@ class BackgroundJob {
   Job job_;
   SpareCores* spare_;
   std::atomic<bool> stop_{false};
-  std::atomic<bool> ended_{false};
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool ended_ = false;  // under mutex_
   std::exception_ptr error_;
   std::thread thread_;
   bool joined_ = false;

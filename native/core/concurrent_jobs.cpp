@@ -204,7 +204,11 @@ BackgroundJob::BackgroundJob(Job job, SpareCores* spare) : job_(std::move(job)),
       changed_.notify_all();
     });
   } catch (...) {
-    if (spare_) spare_->stop_working();  // no thread: join() runs the job
+    // No thread: the job runs now, on the calling thread, whose core counts
+    // already; a caller waiting for something the job makes cannot wait for
+    // ever.
+    if (spare_) spare_->stop_working();
+    run();
   }
 }
 
@@ -243,12 +247,6 @@ void BackgroundJob::join(const Progress& progress, double fraction, const char* 
     }
     lock.unlock();
     thread_.join();
-  } else {
-    try {
-      job_(Progress{&BackgroundJob::still_wanted, this, 0.0, 1.0});
-    } catch (...) {
-      error_ = std::current_exception();
-    }
   }
   if (error_) std::rethrow_exception(error_);
 }

@@ -83,11 +83,11 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
 // needs its result: work that depends on the input alone (the polish of the
 // raw input) runs beside the stages before the ones that need it. Its
 // progress reaches no callback (the caller's is called from the calling
-// thread only); it hears only "stop?", which is "yes" once the job is
-// abandoned or the BackgroundJob is destroyed (a cancel unwinding the
-// caller), so it stops at its next report. Where no thread can be started,
-// the job runs in join(). The thread counts as working in `spare` while it
-// runs.
+// thread only); it hears only "stop?", which is "yes" once the
+// BackgroundJob is destroyed (a cancel unwinding the caller), so it stops at
+// its next report. Where no thread can be started, the job runs at once in
+// the constructor, on the calling thread. The thread counts as working in
+// `spare` while it runs.
 class BackgroundJob {
  public:
   BackgroundJob(Job job, SpareCores* spare);

@@ -39,9 +39,10 @@ constexpr double kBytesPerGridCell = 2 * 100.0;
 // of a system of up to 20k rows (one per vertex), about 200 entries a row.
 // A noisy 1M-face cylinder peaked at 2496 MiB with least motion's
 // candidates, 1062 without: 1.5 KB/face, with the safety factor 2.4 KB.
-// Since the deformation's system goes before the candidates polish and the
-// polish's tables hold ints, 1488 MiB (docs/method.md, "Scans of any
-// size"); the bound is left where it was, above what runs take.
+// Since the polish's tables are smaller and one crease guard serves a run,
+// 1511 MiB with one polish beside the deformation's system and two after
+// it (docs/method.md, "Scans of any size" and "Least motion ahead of the
+// deformation"); the bound is left where it was, above what runs take.
 constexpr double kPolishBytesPerFace = 2400.0;
 constexpr double kPolishFactorBytesPerRow = 200.0 * 12.0;
 constexpr double kPolishFactorRows = 20000.0;

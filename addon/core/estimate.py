@@ -19,9 +19,12 @@ planned as an object by the engine but estimated as a sheet here: telling
 the two apart needs the angle sums, too dear for a panel that redraws.
 
 Other settings keep a model of the stages, fitted to docs/benchmarks.md
-(10k-1M faces):
+(10k-1M faces; one patch's iterations to runs without the polish of the
+noisy cylinder patches of bench/scans.py, 2026-12-06: 100k faces 0.25 s for
+23 iterations, 1M faces 4.7 s for 22):
   decoupled factorisation   faces * 3 us * (faces / 1e5)^0.35, once
-  one iteration             faces * 0.33 us on one patch, ~0.6 us segmented
+  one iteration             faces * 0.11 us * (faces / 1e5)^0.29 on one
+                            patch, ~0.6 us segmented
   iterations                ~25 on one patch, ~300 segmented
   coupled factorisation     faces * 30 us * (faces / 1e4)^0.4: once in paper
                             mode, every iteration with the coupled solver
@@ -80,11 +83,12 @@ def expected_seconds(faces, closed, mode, solver, segmentation, fixed_patches, m
             return iterations * (coupled + faces * per_face)
         return decoupled + iterations * faces * per_face
 
-    one_patch, segmented = run(25, 0.33e-6), run(300, 0.6e-6)
+    one_patch_iteration = 0.11e-6 * (faces / 1e5) ** 0.29
+    one_patch, segmented = run(25, one_patch_iteration), run(300, 0.6e-6)
     if polish != "OFF":
         # What the measured default runs spent beyond their stages (at least nothing).
         sheet, whole = (sum(measured_seconds(faces, k)) / 2 for k in ("sheet", "object"))
-        one_patch += max(sheet - run(25, 0.33e-6, 25), 0.0)
+        one_patch += max(sheet - run(25, one_patch_iteration, 25), 0.0)
         segmented += max(whole - run(300, 0.6e-6, 300), 0.0)
     if segmentation == "OFF":
         return one_patch, one_patch

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -11,10 +10,6 @@
 
 namespace developable {
 namespace {
-
-// How often BackgroundJob::join reports while it waits: a cancel is heard
-// within it.
-constexpr std::chrono::milliseconds kJoinReportInterval{20};
 
 struct Report {
   double fraction;
@@ -189,7 +184,7 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
 BackgroundJob::BackgroundJob(Job job, SpareCores* spare) : job_(std::move(job)), spare_(spare) {
   const auto run = [this] {
     try {
-      job_(Progress{&BackgroundJob::still_wanted, this, 0.0, 1.0});
+      job_(Progress{&BackgroundJob::queue_report, this, 0.0, 1.0});
     } catch (...) {
       error_ = std::current_exception();
     }
@@ -209,6 +204,7 @@ BackgroundJob::BackgroundJob(Job job, SpareCores* spare) : job_(std::move(job)),
     // ever.
     if (spare_) spare_->stop_working();
     run();
+    ended_ = true;
   }
 }
 
@@ -217,14 +213,20 @@ BackgroundJob::~BackgroundJob() {
   if (thread_.joinable()) thread_.join();
 }
 
-bool BackgroundJob::still_wanted(double, const char*, void* user) {
-  return !static_cast<const BackgroundJob*>(user)->stop_.load();
+bool BackgroundJob::queue_report(double, const char* stage, void* user) {
+  auto* self = static_cast<BackgroundJob*>(user);
+  {
+    const std::lock_guard<std::mutex> lock(self->mutex_);
+    self->stages_.push_back(stage);
+  }
+  self->changed_.notify_all();
+  return !self->stop_.load();
 }
 
-void BackgroundJob::join(const Progress& progress, double fraction, const char* stage) {
+void BackgroundJob::join(const Progress& progress, double fraction) {
   if (joined_) return;
   joined_ = true;
-  if (thread_.joinable()) {
+  {
     // The calling thread's core is spare while it waits (the job's products
     // may take it); counted back in however the wait ends.
     struct Waiting {
@@ -237,17 +239,20 @@ void BackgroundJob::join(const Progress& progress, double fraction, const char* 
       }
       Waiting(const Waiting&) = delete;
       Waiting& operator=(const Waiting&) = delete;
-    } waiting(spare_);
+    } waiting(thread_.joinable() ? spare_ : nullptr);
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!ended_) {
+    while (true) {
+      changed_.wait(lock, [this] { return ended_ || !stages_.empty(); });
+      std::deque<const char*> stages;
+      stages.swap(stages_);
+      const bool ended = ended_;
       lock.unlock();
-      progress.report(fraction, stage);
+      for (const char* stage : stages) progress.report(fraction, stage);
+      if (ended) break;
       lock.lock();
-      changed_.wait_for(lock, kJoinReportInterval, [this] { return ended_; });
     }
-    lock.unlock();
-    thread_.join();
   }
+  if (thread_.joinable()) thread_.join();
   if (error_) std::rethrow_exception(error_);
 }
 

@@ -24,6 +24,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <exception>
 #include <functional>
 #include <mutex>
@@ -80,13 +81,14 @@ class SpareCores {
 void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress& progress, SpareCores* spare = nullptr);
 
 // One job on a thread of its own, started now and joined when the caller
-// needs its result: work that depends on the input alone (the polish of the
-// raw input) runs beside the stages before the ones that need it. Its
-// progress reaches no callback (the caller's is called from the calling
-// thread only); it hears only "stop?", which is "yes" once the
-// BackgroundJob is destroyed (a cancel unwinding the caller), so it stops at
-// its next report. Where no thread can be started, the job runs at once in
-// the constructor, on the calling thread. The thread counts as working in
+// needs its result: work that depends on the input alone (least motion's
+// polishes of its starts) runs beside the stages before the ones that need
+// it. Its reports are queued and reach the caller's callback at the join,
+// from the calling thread, one for one (so a run reports as often whatever
+// ran where); it hears only "stop?", which is "yes" once the BackgroundJob
+// is destroyed (a cancel unwinding the caller), so it stops at its next
+// report. Where no thread can be started, the job runs at once in the
+// constructor, on the calling thread. The thread counts as working in
 // `spare` while it runs.
 class BackgroundJob {
  public:
@@ -95,20 +97,22 @@ class BackgroundJob {
   BackgroundJob(const BackgroundJob&) = delete;
   BackgroundJob& operator=(const BackgroundJob&) = delete;
 
-  // Waits for the job to end, reporting `progress` (at `fraction`, `stage`)
-  // now and then to hear a cancel, the calling thread's core spare
-  // meanwhile; rethrows what the job threw. Once only.
-  void join(const Progress& progress, double fraction, const char* stage);
+  // Waits for the job to end, passing its reports on to `progress` (each at
+  // `fraction`, under its own stage) as they come, so a cancel is heard at
+  // the job's next report; the calling thread's core is spare meanwhile.
+  // Rethrows what the job threw. Once only.
+  void join(const Progress& progress, double fraction);
 
  private:
-  static bool still_wanted(double fraction, const char* stage, void* user);
+  static bool queue_report(double fraction, const char* stage, void* user);
 
   Job job_;
   SpareCores* spare_;
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
   std::condition_variable changed_;
-  bool ended_ = false;  // under mutex_
+  std::deque<const char*> stages_;  // reports not yet passed on, under mutex_
+  bool ended_ = false;              // under mutex_
   std::exception_ptr error_;
   std::thread thread_;
   bool joined_ = false;

@@ -48,8 +48,8 @@ class LeastMotionAhead {
   LeastMotionAhead& operator=(const LeastMotionAhead&) = delete;
 
   Work& work() { return *work_; }
-  // Waits for the ahead thread, hearing a cancel through `progress`.
-  void join(const Progress& progress) { thread_.join(progress, 1.0, "polish"); }
+  // Waits for the ahead thread, its reports passed on to `progress`.
+  void join(const Progress& progress) { thread_.join(progress, 1.0); }
 
  private:
   std::unique_ptr<Work> work_;

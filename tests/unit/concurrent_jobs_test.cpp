@@ -150,13 +150,14 @@ TEST(ConcurrentJobs, AJobsOwnFailureComesBeforeTheCancelsItCaused) {
   }
 }
 
-// BackgroundJob: the job runs beside the caller and its reports reach no
-// callback; join hears the caller's cancel while it waits; what the job
-// threw comes back at join; destroyed unjoined, the job stops at its next
-// report.
-TEST(BackgroundJob, RunsBesideTheCallerAndJoinRethrowsItsFailure) {
+// BackgroundJob: the job runs beside the caller, and its reports reach the
+// callback at the join, from the calling thread, one for one; what the job
+// threw comes back at join; join hears the caller's cancel at the job's
+// next report; destroyed unjoined, the job stops at its next report.
+TEST(BackgroundJob, RunsBesideTheCallerAndJoinPassesOnItsReportsAndFailure) {
   std::atomic<bool> caller_went_on{false};
   std::atomic<bool> seen_beside{false};
+  std::atomic<int> reports{0};
   std::thread::id job_thread;
   SpareCores spare(2);
   {
@@ -164,22 +165,29 @@ TEST(BackgroundJob, RunsBesideTheCallerAndJoinRethrowsItsFailure) {
         [&](const Progress& progress) {
           job_thread = std::this_thread::get_id();
           const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-          while (!caller_went_on && std::chrono::steady_clock::now() < deadline) progress.report(0.5, "beside");
+          while (!caller_went_on && std::chrono::steady_clock::now() < deadline) {
+            progress.report(0.5, "beside");
+            ++reports;
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+          }
           seen_beside = caller_went_on.load();
           throw std::runtime_error("out of luck");
         },
         &spare);
     EXPECT_EQ(spare.take(1), 0u) << "the job's thread counts as working";
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
     caller_went_on = true;
     Recorder recorder;
     try {
-      job.join(recorder.progress(), 0.5, "waiting");
+      job.join(recorder.progress(), 0.75);
       FAIL() << "nothing rethrown";
     } catch (const std::runtime_error& e) {
       EXPECT_STREQ(e.what(), "out of luck");
     }
+    EXPECT_EQ(static_cast<int>(recorder.callers.size()), reports.load()) << "every report passed on once";
     for (const std::thread::id& caller : recorder.callers) EXPECT_EQ(caller, std::this_thread::get_id());
-    for (const std::string& stage : recorder.stages) EXPECT_EQ(stage, "waiting");
+    for (const std::string& stage : recorder.stages) EXPECT_EQ(stage, "beside");
+    for (double fraction : recorder.fractions) EXPECT_EQ(fraction, 0.75);
   }
   EXPECT_TRUE(seen_beside);
   EXPECT_NE(job_thread, std::this_thread::get_id());
@@ -203,7 +211,7 @@ TEST(BackgroundJob, TheCallersCoreIsSpareWhileItWaits) {
       &spare);
   EXPECT_EQ(spare.take(1), 0u) << "both cores work";
   waiting = true;
-  job.join(Progress{}, 0.0, "waiting");
+  job.join(Progress{}, 0.0);
   EXPECT_EQ(taken, 1u) << "the job took the waiting caller's core";
   EXPECT_EQ(spare.take(2), 1u) << "after the join, the calling thread's core only is busy";
 }
@@ -225,7 +233,7 @@ TEST(BackgroundJob, JoinHearsACancelAndTheJobStopsWhenDestroyed) {
   recorder.cancel_after = 2;
   try {
     BackgroundJob job(endless, nullptr);
-    job.join(recorder.progress(), 0.5, "waiting");
+    job.join(recorder.progress(), 0.5);
     FAIL() << "not cancelled";
   } catch (const EngineError& e) {
     EXPECT_EQ(e.status(), Status::cancelled);

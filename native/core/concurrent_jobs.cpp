@@ -52,6 +52,23 @@ struct QueuedProgress {
   }
 };
 
+// The calling thread's core counted spare while it waits for other threads
+// (their work may take it), counted back in however the wait ends.
+class IdleWhileWaiting {
+ public:
+  explicit IdleWhileWaiting(SpareCores* spare) : spare_(spare) {
+    if (spare_) spare_->stop_working();
+  }
+  ~IdleWhileWaiting() {
+    if (spare_) spare_->start_working();
+  }
+  IdleWhileWaiting(const IdleWhileWaiting&) = delete;
+  IdleWhileWaiting& operator=(const IdleWhileWaiting&) = delete;
+
+ private:
+  SpareCores* spare_;
+};
+
 bool is_cancel(const std::exception_ptr& error) {
   try {
     std::rethrow_exception(error);
@@ -160,18 +177,18 @@ void run_concurrently(const std::vector<Job>& jobs, int threads, const Progress&
     }
   }
   take_jobs(true);
-  // The helpers' reports, as they come, until every job has ended; the
-  // calling thread's core is spare meanwhile.
-  if (spare) spare->stop_working();
-  while (relayed < n) {
-    {
-      std::unique_lock<std::mutex> lock(relay.mutex);
-      relay.changed.wait(lock, [&] { return !relay.reports[relayed].empty() || relay.ended[relayed]; });
+  {
+    // The helpers' reports, as they come, until every job has ended.
+    const IdleWhileWaiting waiting(spare);
+    while (relayed < n) {
+      {
+        std::unique_lock<std::mutex> lock(relay.mutex);
+        relay.changed.wait(lock, [&] { return !relay.reports[relayed].empty() || relay.ended[relayed]; });
+      }
+      pass_on();
     }
-    pass_on();
+    for (auto& t : pool) t.join();
   }
-  for (auto& t : pool) t.join();
-  if (spare) spare->start_working();
 
   // A job's own failure before the cancels it caused in the others.
   for (const auto& error : errors)
@@ -227,19 +244,7 @@ void BackgroundJob::join(const Progress& progress, double fraction) {
   if (joined_) return;
   joined_ = true;
   {
-    // The calling thread's core is spare while it waits (the job's products
-    // may take it); counted back in however the wait ends.
-    struct Waiting {
-      SpareCores* spare;
-      explicit Waiting(SpareCores* s) : spare(s) {
-        if (spare) spare->stop_working();
-      }
-      ~Waiting() {
-        if (spare) spare->start_working();
-      }
-      Waiting(const Waiting&) = delete;
-      Waiting& operator=(const Waiting&) = delete;
-    } waiting(thread_.joinable() ? spare_ : nullptr);
+    const IdleWhileWaiting waiting(thread_.joinable() ? spare_ : nullptr);
     std::unique_lock<std::mutex> lock(mutex_);
     while (true) {
       changed_.wait(lock, [this] { return ended_ || !stages_.empty(); });

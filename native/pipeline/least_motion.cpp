@@ -241,11 +241,20 @@ struct LeastMotionAhead::Work {
   }
 
   // The choice's move, once its polish has run: every polish here gives up
-  // past it. The polishes of the raw input and of the smoothed start are
-  // candidates only where something was deformed: else they stop at once.
-  void set_choice_move(double move, bool deformed) {
+  // past it (those dropped at once).
+  void set_choice_move(double move) {
     choice_move = move;
-    deformed_only_move = deformed ? move : std::numeric_limits<double>::min();
+    if (deformed_only_move == 0.0) deformed_only_move = move;
+  }
+
+  // Where nothing was deformed the choice's polish is the polish of the
+  // input (with the choice's options) and the smoothed start is no
+  // candidate: neither polish is begun from here on, and one begun gives up
+  // at its next step.
+  void drop_deformed_only() {
+    taken[raw_input] = true;
+    taken[smoothed] = true;
+    deformed_only_move = std::numeric_limits<double>::min();
   }
 
   // The early polishes, in the order they are taken (the longest first).
@@ -428,14 +437,7 @@ void compete_ahead(const PatchRun& run, const PolishPlan& plan, DeformationRun& 
                    Choice& choice, const Progress& progress) {
   const MeasuredInput& input = run.input;
   LeastMotionAhead::Work& work = ahead.work();
-  // Where nothing was deformed the choice's polish is the polish of the
-  // input (with the choice's options) and the smoothed start is no
-  // candidate: neither polish is begun from here on, and one begun stops.
-  if (!deformed) {
-    work.taken[LeastMotionAhead::Work::raw_input] = true;
-    work.taken[LeastMotionAhead::Work::smoothed] = true;
-    work.set_choice_move(0.0, false);
-  }
+  if (!deformed) work.drop_deformed_only();
   work.starts_ready.get();
   std::optional<Start> stepped;
   if (deformed) {
@@ -453,7 +455,7 @@ void compete_ahead(const PatchRun& run, const PolishPlan& plan, DeformationRun& 
   std::vector<Job> jobs;
   jobs.push_back([&](const Progress& share) {
     polish_choice(share);
-    work.set_choice_move(motion_of(choice.positions, input.positions).rms, deformed);
+    work.set_choice_move(motion_of(choice.positions, input.positions).rms);
   });
   if (stepped)
     jobs.push_back(

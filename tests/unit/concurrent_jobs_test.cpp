@@ -50,6 +50,23 @@ Job reporting_job(int steps, const char* stage, std::atomic<int>* runs) {
   };
 }
 
+// A job that reports every millisecond until told to stop; `started` is set
+// when it runs, `stopped` when a cancel ended it.
+Job endless_job(std::atomic<bool>* started, std::atomic<bool>* stopped) {
+  return [started, stopped](const Progress& progress) {
+    *started = true;
+    try {
+      for (;;) {
+        progress.report(0.5, "endless");
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    } catch (const EngineError& e) {
+      *stopped = e.status() == Status::cancelled;
+      throw;
+    }
+  };
+}
+
 TEST(ConcurrentJobs, EveryJobRunsOnceWhateverTheThreadCount) {
   for (int threads : {0, 1, 2, 3, 8}) {
     std::vector<int> result(7, 0);
@@ -112,18 +129,7 @@ TEST(ConcurrentJobs, ACancelStopsEveryJobAndNothingIsReportedAfterIt) {
     std::atomic<bool> other_started{false}, other_stopped{false};
     // The other job only stops when told to (it may not start at all when the
     // cancel comes first; the call would never return if it were not told).
-    const Job endless = [&](const Progress& progress) {
-      other_started = true;
-      try {
-        for (;;) {
-          progress.report(0.5, "endless");
-          std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        }
-      } catch (const EngineError& e) {
-        other_stopped = e.status() == Status::cancelled;
-        throw;
-      }
-    };
+    const Job endless = endless_job(&other_started, &other_stopped);
     try {
       run_concurrently({reporting_job(10, "own", &runs), endless}, 2, recorder.progress());
       FAIL() << "not cancelled";
@@ -217,18 +223,8 @@ TEST(BackgroundJob, TheCallersCoreIsSpareWhileItWaits) {
 }
 
 TEST(BackgroundJob, JoinHearsACancelAndTheJobStopsWhenDestroyed) {
-  std::atomic<bool> stopped{false};
-  const Job endless = [&](const Progress& progress) {
-    try {
-      for (;;) {
-        progress.report(0.5, "endless");
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      }
-    } catch (const EngineError& e) {
-      stopped = e.status() == Status::cancelled;
-      throw;
-    }
-  };
+  std::atomic<bool> started{false}, stopped{false};
+  const Job endless = endless_job(&started, &stopped);
   Recorder recorder;
   recorder.cancel_after = 2;
   try {

@@ -50,5 +50,33 @@ TEST(PolishPlan, TheRawInputsPolishSettlesAtHalfTheSlackTheOthersAtAllOfIt) {
   EXPECT_DOUBLE_EQ(undeformed.raw_input.settled_defect, 0.5 * kDefectSlack * mean);
 }
 
+// LeastMotionAhead polishes the projected start with the options of a
+// deformed run before it knows whether anything was deformed: on one patch
+// least motion's candidates' options do not depend on it.
+TEST(PolishPlan, OnOnePatchTheCandidatesDoNotDependOnTheDeformation) {
+  const NoisyCylinder cylinder;
+  ASSERT_FALSE(cylinder.run.piecewise);
+  const PolishPlan deformed = polish_plan(cylinder.run, true);
+  const PolishPlan undeformed = polish_plan(cylinder.run, false);
+  for (const auto& [a, b] : {std::pair{&deformed.candidates, &undeformed.candidates},
+                             std::pair{&deformed.raw_input, &undeformed.raw_input}}) {
+    EXPECT_EQ(a->settled_defect, b->settled_defect);
+    EXPECT_EQ(a->spread_damping, b->spread_damping);
+    EXPECT_EQ(a->spread_until, b->spread_until);
+    EXPECT_EQ(a->stall_flat_share, b->stall_flat_share);
+    EXPECT_EQ(a->active_defect, b->active_defect);
+    EXPECT_EQ(a->target_defect, b->target_defect);
+    EXPECT_EQ(a->max_iterations, b->max_iterations);
+    EXPECT_EQ(a->direct_rows, b->direct_rows);
+    EXPECT_EQ(a->limit, b->limit);
+    EXPECT_EQ(a->crease_growth, b->crease_growth);
+    EXPECT_EQ(a->crease_groups, b->crease_groups);
+    EXPECT_EQ(a->crease_guard, b->crease_guard);
+    EXPECT_EQ(a->give_up_move, b->give_up_move);
+    EXPECT_EQ(a->pull_steps, b->pull_steps);
+  }
+  EXPECT_TRUE(deformed.least_motion && undeformed.least_motion);
+}
+
 }  // namespace
 }  // namespace developable

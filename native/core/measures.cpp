@@ -232,6 +232,20 @@ CreaseGuard::CreaseGuard(const Triangles& triangles, const Normals& reference, c
   edges_ = std::make_shared<const std::vector<Edge>>(std::move(edges));
 }
 
+CreaseGuard CreaseGuard::restricted(const std::vector<Eigen::Index>& faces, Eigen::Index mesh_faces) const {
+  CreaseGuard out;
+  if (!edges_) return out;
+  std::vector<int> local_of(static_cast<size_t>(mesh_faces), -1);
+  for (size_t i = 0; i < faces.size(); ++i) local_of[static_cast<size_t>(faces[i])] = static_cast<int>(i);
+  std::vector<Edge> edges;
+  for (const Edge& e : *edges_) {
+    const int f = local_of[static_cast<size_t>(e.f)], g = local_of[static_cast<size_t>(e.g)];
+    if (f >= 0 && g >= 0) edges.push_back({f, g, e.limit_cosine});
+  }
+  out.edges_ = std::make_shared<const std::vector<Edge>>(std::move(edges));
+  return out;
+}
+
 namespace {
 
 // Whether the angle between a and b is wider than the angle whose cosine is

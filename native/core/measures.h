@@ -102,6 +102,12 @@ class CreaseGuard {
 
   bool active() const { return edges_ && !edges_->empty(); }
 
+  // The same guard on the submesh of `faces` (ascending ids of this guard's
+  // mesh of `mesh_faces` faces; submesh face i is faces[i]): the watched
+  // edges between two of them, renumbered. The guard a constructor would
+  // build on the submesh itself, without its triangles.
+  CreaseGuard restricted(const std::vector<Eigen::Index>& faces, Eigen::Index mesh_faces) const;
+
   // The faces of the watched edges creased at `normals` (face_normals of
   // the same triangles), ascending and unique.
   std::vector<Eigen::Index> creased_faces(const Normals& normals, SpareCores* spare = nullptr) const;

@@ -403,9 +403,6 @@ class RegionPolish {
         n_(start.rows()),
         free_of_(static_cast<size_t>(n_), -1),
         row_of_(static_cast<size_t>(n_), -1),
-        crease_guard_(options.crease_guard != nullptr
-                          ? *options.crease_guard
-                          : CreaseGuard(triangles, reference_normals, options.crease_groups, options.crease_growth)),
         system_(options.direct_rows, options.spare_cores),
         current_(start) {
     for (Eigen::Index v = 0; v < n_; ++v)
@@ -421,8 +418,8 @@ class RegionPolish {
   bool factor(double mu);
   Positions moved(const Eigen::VectorXd& step, double length) const;
   bool unfold(Positions& trial) const {
-    return put_back_folded_corners(trial, current_, triangles_, reference_normals_, crease_guard_, kRevertRounds,
-                                   options_.spare_cores);
+    return put_back_folded_corners(trial, current_, triangles_, reference_normals_, options_.crease_guard,
+                                   kRevertRounds, options_.spare_cores);
   }
   Eigen::VectorXd residual_at(const Eigen::VectorXd& defects) const;
   void pull();
@@ -445,7 +442,6 @@ class RegionPolish {
   std::vector<int> row_of_;   // vertex -> its row, or -1
   Eigen::Index free_count_ = 0;
   Eigen::Index rows_ = 0;
-  const CreaseGuard crease_guard_;
   std::optional<DefectJacobian> jacobian_;
   std::optional<NormalMatrix> normal_;
   DampedSystem system_;
@@ -689,8 +685,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   const Eigen::Index n = start.rows();
   if (reference.rows() != n || static_cast<Eigen::Index>(constrained.size()) != n ||
       (!pinned.empty() && static_cast<Eigen::Index>(pinned.size()) != n) ||
-      reference_normals.rows() != triangles.rows() ||
-      (!options.crease_groups.empty() && static_cast<Eigen::Index>(options.crease_groups.size()) != triangles.rows()))
+      reference_normals.rows() != triangles.rows())
     throw EngineError(Status::internal_error, "polish_defects: sizes disagree");
 
   const Eigen::VectorXd defects = angle_defects(start, triangles, constrained);
@@ -704,7 +699,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   // With the crease guard on, also the faces across an edge from a face that
   // can change, so that the guard sees every angle a step can open: those
   // touching a reachable vertex.
-  const std::vector<bool>& reached = options.crease_growth > 0.0 ? region.reachable : region.rows;
+  const std::vector<bool>& reached = options.crease_guard.active() ? region.reachable : region.rows;
   std::vector<Eigen::Index> faces;
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
     bool local = false;
@@ -753,13 +748,7 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
     local_normals.row(i) = reference_normals.row(f);
   }
   PolishOptions local_options = options;
-  local_options.crease_guard = nullptr;  // the whole mesh's
-  if (!options.crease_groups.empty()) {
-    local_options.crease_groups.resize(static_cast<size_t>(face_count));
-    for (Eigen::Index i = 0; i < face_count; ++i)
-      local_options.crease_groups[static_cast<size_t>(i)] =
-          options.crease_groups[static_cast<size_t>(faces[static_cast<size_t>(i)])];
-  }
+  local_options.crease_guard = options.crease_guard.restricted(faces, triangles.rows());
   // The vertices outside the submesh keep their moves, which count in the RMS.
   if (give_up.active())
     for (Eigen::Index v = 0; v < n; ++v)

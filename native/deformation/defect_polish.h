@@ -77,17 +77,12 @@ struct PolishOptions {
   // mu may fall to Gauss-Newton's, which finishes quadratically.
   double spread_damping = 0.0;
   double spread_until = 1e-3;
-  // > 0: a step may not grow the angle between two faces of one group by
-  // more than this (rad) over `reference_normals`' (CreaseGuard in
-  // measures.h); such faces keep their corners, as those that turn over.
-  // crease_groups: one id per face (edges between groups are free), or
-  // empty for one group.
-  double crease_growth = 0.0;
-  std::vector<int> crease_groups;
-  // Null, or that guard on the whole mesh with `reference_normals`, where
-  // the caller has made it (PatchRun::crease_guard): a polish of the whole
-  // mesh shares it instead of making its own (24 MB at 1M faces).
-  const CreaseGuard* crease_guard = nullptr;
+  // The crease guard (measures.h) over `reference_normals`: a step may not
+  // open the angle between two faces of one group by more than its growth;
+  // such faces keep their corners, as those that turn over. Off by default.
+  // Copies share its edges (24 MB at 1M faces): a run's polishes hold the
+  // one it made (PatchRun::crease_guard).
+  CreaseGuard crease_guard;
   // > 0: the polish gives up (PolishResult::gave_up) once a kept step leaves
   // the vertices farther from `reference` than this, RMS over the whole mesh
   // (caller's units): least motion's candidates win only by moving less than

@@ -44,7 +44,6 @@ class RuledPolish {
         options_(options),
         n_(start.rows()),
         table_(vertex_faces(triangles, start.rows())),
-        guard_(triangles, reference_normals, options.crease_groups, options.crease_growth),
         current_(start) {
     if (options.fit_weight > 0.0) fit_scale_ = options.fit_weight / average_edge_length(reference, triangles);
     for (Eigen::Index v = 0; v < n_; ++v)
@@ -90,7 +89,6 @@ class RuledPolish {
   const RuledPolishOptions& options_;
   const Eigen::Index n_;
   const VertexFaces table_;
-  const CreaseGuard guard_;
   std::vector<Eigen::Index> scored_;
   std::vector<bool> scored_mask_;
   std::vector<bool> free_;
@@ -345,8 +343,8 @@ RuledPolishResult RuledPolish::run(const Progress& progress) {
           trial.row(v) += length * step.segment<3>(3 * c).transpose();
           trial.row(v) = within_limit(trial.row(v), reference_.row(v), options_.limit);
         }
-        if (!put_back_folded_corners(trial, current_, triangles_, reference_normals_, guard_, kRevertRounds,
-                                     options_.spare_cores))
+        if (!put_back_folded_corners(trial, current_, triangles_, reference_normals_, options_.crease_guard,
+                                     kRevertRounds, options_.spare_cores))
           continue;
         trial_normals = face_normals(trial, triangles_, options_.spare_cores);
         trial_defects = angle_defects(trial, triangles_, scored_mask_, options_.spare_cores);
@@ -388,8 +386,7 @@ RuledPolishResult polish_ruled(const Positions& start, const Positions& referenc
   const Eigen::Index n = start.rows();
   if (reference.rows() != n || static_cast<Eigen::Index>(scored.size()) != n ||
       (!pinned.empty() && static_cast<Eigen::Index>(pinned.size()) != n) ||
-      reference_normals.rows() != triangles.rows() ||
-      (!options.crease_groups.empty() && static_cast<Eigen::Index>(options.crease_groups.size()) != triangles.rows()))
+      reference_normals.rows() != triangles.rows())
     throw EngineError(Status::internal_error, "polish_ruled: sizes disagree");
   RuledPolish polish(start, reference, reference_normals, triangles, scored, pinned, options);
   return polish.run(progress);

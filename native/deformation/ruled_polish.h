@@ -39,6 +39,7 @@
 #pragma once
 
 #include "core/concurrent_jobs.h"
+#include "core/measures.h"
 #include "core/types.h"
 
 #include <Eigen/Core>
@@ -48,14 +49,13 @@
 namespace developable {
 
 struct RuledPolishOptions {
-  int max_iterations = 200;        // Levenberg-Marquardt steps, >= 1
-  double defect_weight = 5.0;      // wK
-  double ruled_weight = 1.0;       // wR
-  double robust = 0.01;            // eps of the group reweighting; 0: plain least squares
-  double fit_weight = 0.0;         // wF, the fit to `reference`; 0: none
-  double limit = 0.0;              // largest distance from `reference` (caller's units); <= 0: none
-  double crease_growth = 0.0;      // > 0: the crease guard (measures.h) over reference_normals, per group
-  std::vector<int> crease_groups;  // per face, or empty for one group
+  int max_iterations = 200;    // Levenberg-Marquardt steps, >= 1
+  double defect_weight = 5.0;  // wK
+  double ruled_weight = 1.0;   // wR
+  double robust = 0.01;        // eps of the group reweighting; 0: plain least squares
+  double fit_weight = 0.0;     // wF, the fit to `reference`; 0: none
+  double limit = 0.0;          // largest distance from `reference` (caller's units); <= 0: none
+  CreaseGuard crease_guard;    // over reference_normals (measures.h); off by default
   // Stop when the robust objective fell by less than stall_decrease over
   // the last stall_window steps.
   int stall_window = 10;

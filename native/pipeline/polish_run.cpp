@@ -135,11 +135,7 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   // wingnut, which came back unchanged, trade 4.9 % more mean |defect| and
   // 0.51 % of its size for flat vertices.
   const bool guarded = deformed || !run.piecewise;
-  if (guarded) {
-    result.crease_growth = run.crease_growth;
-    result.crease_groups = run.patch_ids;
-    result.crease_guard = &run.crease_guard;
-  }
+  if (guarded) result.crease_guard = run.crease_guard;
   result.active_defect = std::min(result.active_defect, kPolishActiveShare * input_mean);
   result.stall_flat_share = kChoiceStallFlatShare;
   // Without a better iterate the polish starts from the input: it is the

@@ -28,8 +28,7 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
   RuledPolishOptions options;
   options.limit = input.limit;
   options.spare_cores = input.spare_cores;
-  options.crease_growth = run.crease_growth;
-  options.crease_groups = run.patch_ids;
+  options.crease_guard = run.crease_guard;
   options.max_iterations = kRoundSteps;
   const Motion choice_motion = motion_of(choice.positions, input.positions);
   const auto within_reach = [&](const Positions& p) {
@@ -59,8 +58,7 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
   exact.active_defect = kFlatDefect;
   exact.limit = input.limit;
   exact.spare_cores = input.spare_cores;
-  exact.crease_growth = run.crease_growth;
-  exact.crease_groups = run.patch_ids;
+  exact.crease_guard = run.crease_guard;
   PolishResult polished = polish_defects(positions, input.positions, input.normals, input.triangles, run.scored,
                                          run.pinned, exact, progress.sub((rounds - 1.0) / rounds, 1.0));
   if (within_reach(polished.positions)) {

@@ -81,8 +81,8 @@ PatchRun patch_run(const MeasuredInput& input, const Patches& patches) {
   run.scored_count = std::count(run.scored.begin(), run.scored.end(), true);
   // A segmented mesh is doubly curved: made flat vertex by vertex within its
   // patches it crumples; one patch may not fold.
-  run.crease_growth = run.piecewise ? kSegmentedCreaseGrowth : kOnePatchCreaseGrowth;
-  run.crease_guard = CreaseGuard(input.triangles, input.normals, run.patch_ids, run.crease_growth);
+  run.crease_guard = CreaseGuard(input.triangles, input.normals, run.patch_ids,
+                                 run.piecewise ? kSegmentedCreaseGrowth : kOnePatchCreaseGrowth);
   return run;
 }
 

@@ -96,11 +96,10 @@ struct PatchRun {
   std::vector<bool> pinned;  // the input's, and with Seams::pinned the patch borders
   std::vector<bool> scored;  // the interior, or on pieces the vertices inside the patches
   std::ptrdiff_t scored_count = 0;
-  // The crease guard's growth (rad) inside a patch: no step may crease an
-  // edge between two faces of one patch by more than this over the input.
-  double crease_growth = 0.0;
-  // That guard on the input's normals and the patches, made once for the
-  // run's judge, deformation and polishes (a copy shares it).
+  // The crease guard on the input's normals and the patches: no step may
+  // crease an edge between two faces of one patch by more than its growth
+  // over the input. Made once for the run's judge, deformation and polishes
+  // (a copy shares it).
   CreaseGuard crease_guard;
 };
 

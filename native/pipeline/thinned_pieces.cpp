@@ -150,7 +150,8 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   }
   out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
 
-  const StepGuard piece_guard(input, CreaseGuard(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth));
+  const CreaseGuard piece_crease(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth);
+  const StepGuard piece_guard(input, piece_crease);
   piece_guard.heal(out.positions);
   thin(input, deformation, piece_guard, out.pieces, kPieceThinningIterations, out.positions, progress.sub(0.05, 0.5));
   deformation.release();  // its share of the factor is of no use to the ruled polish, which needs the memory
@@ -162,8 +163,7 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   ruled.max_iterations = kThinnedPolishIterations;
   ruled.limit = input.limit;
   ruled.spare_cores = input.spare_cores;
-  ruled.crease_growth = kSegmentedCreaseGrowth;
-  ruled.crease_groups = out.pieces;
+  ruled.crease_guard = piece_crease;
   const RuledPolishResult polished = polish_ruled(out.positions, input.positions, input.normals, input.triangles,
                                                   inside, input.pinned, ruled, progress.sub(0.5, 1.0));
   out.positions = polished.positions;

@@ -154,6 +154,50 @@ TEST(Measures, CreaseGuardReportsTheFacesOfEdgesThatSharpened) {
   EXPECT_FALSE(CreaseGuard(m.triangles, flat, {}, 0.0).active());
 }
 
+// A guard restricted to some faces is the guard its constructor builds on
+// the submesh of those faces: it finds the same creased faces, renumbered.
+TEST(Measures, CreaseGuardRestrictedIsTheGuardOfTheSubmesh) {
+  const auto m = test::plane(9, 9);
+  const Normals reference = face_normals(m.positions, m.triangles);
+  std::vector<int> groups(static_cast<size_t>(m.triangles.rows()));
+  for (size_t f = 0; f < groups.size(); ++f)
+    groups[f] = m.positions(m.triangles(static_cast<Eigen::Index>(f), 0), 0) < 0.5;
+  const double growth = 10.0 * M_PI / 180.0;
+  const CreaseGuard whole(m.triangles, reference, groups, growth);
+
+  // Every other face of the first 100, and the faces of one corner of the plane.
+  std::vector<Eigen::Index> faces;
+  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f)
+    if ((f < 100 && f % 2 == 0) || m.positions(m.triangles(f, 0), 1) > 0.6) faces.push_back(f);
+  std::vector<int> local_vertex(static_cast<size_t>(m.positions.rows()), -1);
+  int vertices = 0;
+  Triangles local(static_cast<Eigen::Index>(faces.size()), 3);
+  Normals local_reference(local.rows(), 3);
+  std::vector<int> local_groups;
+  for (Eigen::Index i = 0; i < local.rows(); ++i) {
+    const Eigen::Index f = faces[static_cast<size_t>(i)];
+    for (int c = 0; c < 3; ++c) {
+      int& v = local_vertex[static_cast<size_t>(m.triangles(f, c))];
+      if (v < 0) v = vertices++;
+      local(i, c) = v;
+    }
+    local_reference.row(i) = reference.row(f);
+    local_groups.push_back(groups[static_cast<size_t>(f)]);
+  }
+  const CreaseGuard restricted = whole.restricted(faces, m.triangles.rows());
+  const CreaseGuard built(local, local_reference, local_groups, growth);
+
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> tilt(-0.3, 0.3);
+  Normals noisy = local_reference;
+  for (Eigen::Index i = 0; i < noisy.rows(); ++i) noisy.row(i) += Eigen::RowVector3d(tilt(random), tilt(random), 0.0);
+  const std::vector<Eigen::Index> creased = built.creased_faces(noisy);
+  ASSERT_FALSE(creased.empty());
+  ASSERT_LT(creased.size(), faces.size());
+  EXPECT_EQ(restricted.creased_faces(noisy), creased);
+  EXPECT_FALSE(CreaseGuard().restricted(faces, m.triangles.rows()).active());
+}
+
 // The measures that share their faces out to spare cores give, on several
 // chunks of faces and any number of cores, what they give on the calling
 // thread alone; the turned and creased faces are those a face-by-face look

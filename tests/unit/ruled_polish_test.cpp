@@ -51,8 +51,8 @@ TEST(RuledPolish, MakesVerticesFlatAndRuledNotCrumpled) {
   const Normals normals = face_normals(s.mesh.positions, s.mesh.triangles);
   RuledPolishOptions options;
   options.limit = 0.03;
-  options.crease_growth = 20.0 * M_PI / 180.0;
-  options.crease_groups = s.pieces;
+  const CreaseGuard guard(s.mesh.triangles, normals, s.pieces, 20.0 * M_PI / 180.0);
+  options.crease_guard = guard;
   const RuledPolishResult r =
       polish_ruled(s.mesh.positions, s.mesh.positions, normals, s.mesh.triangles, s.inside, {}, options, {});
   ASSERT_GT(r.iterations, 0);
@@ -64,7 +64,6 @@ TEST(RuledPolish, MakesVerticesFlatAndRuledNotCrumpled) {
     EXPECT_LE((r.positions.row(v) - s.mesh.positions.row(v)).norm(), options.limit * (1.0 + 1e-12));
   const Normals after_normals = face_normals(r.positions, s.mesh.triangles);
   EXPECT_TRUE(turned_over_faces(after_normals, normals).empty());
-  const CreaseGuard guard(s.mesh.triangles, normals, s.pieces, options.crease_growth);
   EXPECT_TRUE(guard.creased_faces(after_normals).empty());
   // The same input gives the same mesh.
   EXPECT_EQ(

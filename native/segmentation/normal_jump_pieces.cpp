@@ -50,7 +50,7 @@ std::vector<int> numbered(std::vector<int> labels) {
 }  // namespace
 
 std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFaces& connectivity, const Normals& normals,
-                               double crease, int min_faces, const Normals& reference, double growth) {
+                                    double crease, int min_faces, const Normals& reference, double growth) {
   const Eigen::Index m = triangles.rows();
   if (!(crease >= 0.0) || min_faces < 1)
     throw EngineError(Status::invalid_argument, "crease pieces: crease >= 0 and min_faces >= 1");
@@ -73,7 +73,8 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
   for (;;) {
     int smallest = -1;
     for (int p = 0; p < count; ++p)
-      if (size[static_cast<size_t>(p)] > 0 && size[static_cast<size_t>(p)] < min_faces && !stuck[static_cast<size_t>(p)] &&
+      if (size[static_cast<size_t>(p)] > 0 && size[static_cast<size_t>(p)] < min_faces &&
+          !stuck[static_cast<size_t>(p)] &&
           (smallest < 0 || size[static_cast<size_t>(p)] < size[static_cast<size_t>(smallest)]))
         smallest = p;
     if (smallest < 0) break;
@@ -91,11 +92,25 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
       entry.edges += 1;
       entry.creased = entry.creased || e.creased;
     }
+    // A piece with no vertex of its own (every corner also a corner of
+    // another piece's face) has no surface to make developable: it joins a
+    // neighbour whatever its borders.
+    bool own_vertex = false;
+    for (Eigen::Index f = 0; f < m && !own_vertex; ++f) {
+      if (labels[static_cast<size_t>(f)] != smallest) continue;
+      for (int c = 0; c < 3 && !own_vertex; ++c) {
+        const int v = triangles(f, c);
+        bool all = true;
+        for (const int* g = connectivity.begin(v); g != connectivity.end(v); ++g)
+          all = all && labels[static_cast<size_t>(*g)] == smallest;
+        own_vertex = all;
+      }
+    }
     int into = -1;
     double best = 0.0;
     for (const auto& [piece, b] : border) {
       const double mean = b.sum / b.edges;
-      if (!b.creased && (into < 0 || mean < best)) into = piece, best = mean;
+      if ((!b.creased || !own_vertex) && (into < 0 || mean < best)) into = piece, best = mean;
     }
     if (into < 0) {
       stuck[static_cast<size_t>(smallest)] = true;

@@ -11,7 +11,11 @@
 // component of its own). With reference normals, a border may be merged
 // across only if none of its edges is wider than its reference angle plus
 // `growth` (the crease guard of measures.h: a piece holds no edge the guard
-// would call creased).
+// would call creased), unless the small piece has no vertex of its own
+// (every corner also a corner of another piece's face): such a piece is no
+// surface to make developable, only faces a thinning turned (human_woman's
+// single-face pieces), and joins its smoothest neighbour whatever the border;
+// the caller puts the creased faces back (thinned_pieces.h).
 //
 // Unlike segmentation.h, nothing here fits a cone: a piece is whatever the
 // creases enclose. On a mesh before thinning this gives one piece per smooth
@@ -38,7 +42,7 @@ namespace developable {
 // EngineError(invalid_argument) for a negative crease, min_faces < 1 or
 // sizes that disagree.
 std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFaces& connectivity, const Normals& normals,
-                               double crease, int min_faces, const Normals& reference = Normals(),
-                               double growth = 0.0);
+                                    double crease, int min_faces, const Normals& reference = Normals(),
+                                    double growth = 0.0);
 
 }  // namespace developable

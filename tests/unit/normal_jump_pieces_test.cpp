@@ -1,7 +1,7 @@
 // normal_jump_pieces.h: a cube falls into its six sides, a smooth cylinder stays
 // one piece, a folded sheet parts on its fold; small pieces merge into the
 // neighbour with the smoothest border, never across a border the reference
-// normals' guard would call creased.
+// normals' guard would call creased unless they have no vertex of their own.
 #include "segmentation/normal_jump_pieces.h"
 
 #include "core/measures.h"
@@ -21,7 +21,8 @@ int count_of(const std::vector<int>& pieces) { return 1 + *std::max_element(piec
 std::vector<int> pieces_of(const test::Mesh& m, double crease, int min_faces, const Normals& reference = Normals(),
                            double growth = 0.0) {
   const VertexFaces table = vertex_faces(m.triangles, m.positions.rows());
-  return normal_jump_pieces(m.triangles, table, face_normals(m.positions, m.triangles), crease, min_faces, reference, growth);
+  return normal_jump_pieces(m.triangles, table, face_normals(m.positions, m.triangles), crease, min_faces, reference,
+                            growth);
 }
 
 // The unit square folded along x = 0.5 by `angle` (rad) about the y axis.
@@ -37,7 +38,8 @@ TEST(NormalJumpPieces, ACubeFallsIntoItsSides) {
   const test::Mesh m = test::cube();
   const std::vector<int> pieces = pieces_of(m, 25.0 * M_PI / 180.0, 1);
   EXPECT_EQ(count_of(pieces), 6);
-  for (int side = 0; side < 6; ++side) EXPECT_EQ(pieces[static_cast<size_t>(2 * side)], pieces[static_cast<size_t>(2 * side + 1)]);
+  for (int side = 0; side < 6; ++side)
+    EXPECT_EQ(pieces[static_cast<size_t>(2 * side)], pieces[static_cast<size_t>(2 * side + 1)]);
   EXPECT_EQ(pieces[0], 0);  // numbered by their lowest face
 }
 
@@ -63,15 +65,35 @@ TEST(NormalJumpPieces, SmallPiecesMergeIntoTheSmoothestNeighbour) {
   // A cube: each side (2 faces) is small against min_faces 3; they merge
   // until one piece is left (every border is a right angle).
   EXPECT_EQ(count_of(pieces_of(test::cube(), 25.0 * M_PI / 180.0, 3)), 1);
-  // Held to the input's normals (a cube's sides are its input), no border
-  // may merge: every one would crease by 90 degrees.
   const test::Mesh m = test::cube();
   const Normals input = face_normals(m.positions, m.triangles);
-  Normals flat(input.rows(), 3);
-  flat.rowwise() = Eigen::RowVector3d(0, 0, 1);
   const VertexFaces table = vertex_faces(m.triangles, m.positions.rows());
-  EXPECT_EQ(count_of(normal_jump_pieces(m.triangles, table, input, 0.3, 3, flat, 0.3)), 6);
   EXPECT_EQ(count_of(normal_jump_pieces(m.triangles, table, input, 0.3, 3, input, 0.3)), 1);
+}
+
+// Held to reference normals, a small piece keeps a border that would crease
+// beyond them, unless it has no vertex of its own (every corner also one of
+// another piece): then it is no surface to make developable, and joins its
+// smoothest neighbour whatever the border.
+TEST(NormalJumpPieces, ASmallPieceMergesAcrossACreaseOnlyWithoutAVertexOfItsOwn) {
+  const test::Mesh m = test::plane(7, 7);
+  const VertexFaces table = vertex_faces(m.triangles, m.positions.rows());
+  const Normals flat = face_normals(m.positions, m.triangles);
+  const Eigen::RowVector3d tilted = Eigen::RowVector3d(1.0, 0.0, 1.0).normalized();  // 45 degrees off
+
+  // The star of an interior vertex tilted: a piece with a vertex of its own.
+  const int centre = 3 * 7 + 3;
+  Normals star = flat;
+  for (const int* f = table.begin(centre); f != table.end(centre); ++f) star.row(*f) = tilted;
+  const int star_faces = table.count(centre);
+  EXPECT_EQ(count_of(normal_jump_pieces(m.triangles, table, star, 0.3, star_faces + 1, flat, 0.3)), 2);
+  EXPECT_EQ(count_of(normal_jump_pieces(m.triangles, table, star, 0.3, star_faces + 1)), 1);  // no reference
+
+  // One face tilted: a piece of three corners that are all another's too.
+  Normals one = flat;
+  one.row(40) = tilted;
+  EXPECT_EQ(count_of(normal_jump_pieces(m.triangles, table, one, 0.3, 1, flat, 0.3)), 2);  // nothing is small
+  EXPECT_EQ(count_of(normal_jump_pieces(m.triangles, table, one, 0.3, 2, flat, 0.3)), 1);
 }
 
 TEST(NormalJumpPieces, RefusesBadArguments) {

@@ -35,13 +35,20 @@ std::string mm(double x) {
   return s == "-0" ? "0" : s;
 }
 
-// The d attribute of a polyline (closed: a polygon), mm.
+// The d attribute of a polyline (closed: a polygon), mm. A point that prints
+// as the one before it (or, closed, as the first) is left out: a cutter has
+// no use for a segment of length zero.
 std::string path_data(const std::vector<Eigen::Vector2d>& points, bool closed) {
-  std::ostringstream d;
-  for (size_t i = 0; i < points.size(); ++i)
-    d << (i == 0 ? "M" : "L") << mm(points[i].x()) << " " << mm(points[i].y()) << " ";
-  if (closed) d << "Z";
-  return d.str();
+  std::vector<std::string> printed;
+  for (const Eigen::Vector2d& point : points) {
+    std::string xy = mm(point.x()) + " " + mm(point.y());
+    if (printed.empty() || xy != printed.back()) printed.push_back(std::move(xy));
+  }
+  if (closed && printed.size() > 1 && printed.back() == printed.front()) printed.pop_back();
+  std::string d;
+  for (size_t i = 0; i < printed.size(); ++i) d += (i == 0 ? "M" : "L") + printed[i] + " ";
+  if (closed) d += "Z";
+  return d;
 }
 
 void text(std::ostringstream& out, const SheetLabel& label, const char* fill) {

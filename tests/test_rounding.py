@@ -28,12 +28,9 @@ def rounded_copies(positions):
 @pytest.mark.parametrize("name", ["hand_lowres", "spot_low_resolution"])
 def test_rounding_does_not_decide_a_whole_objects_developability(meshes_dir, name):
     """The figure the order ranks a closed mesh by (selection.h, more_developable), the
-    flat-and-ruled share, at least 0.85 of the original's on every copy (hand 42.7 %: its
-    thinned pieces on every copy; spot 42.5 %: its thinned pieces, whose count the last bits
-    move, 27 on the original, 20 on the copies at 37.0-38.0 %, 0.87-0.89 of it: docs/method.md,
-    "Known limits"). The bound was 0.9 until pieces without a vertex of their own joined a
-    neighbour (docs/segmentation.md): that costs the copies 1-1.5 points (they were 22 pieces at
-    38.5-39 %) and gave six held-out objects 5-41 points."""
+    flat-and-ruled share, within a tenth of the original's on every copy (hand 45.0 %: its
+    thinned pieces; spot 42.3 %: its thinned pieces, whose count the last bits move, 27 on
+    the original, 20-25 on the copies at 39.3-40.5 %: docs/method.md, "Known limits")."""
     positions, triangles = read_obj(meshes_dir / (name + ".obj"))
     reference = native.run(positions, triangles).stats
     assert reference["result"] == native.RESULT_IMPROVED
@@ -42,7 +39,7 @@ def test_rounding_does_not_decide_a_whole_objects_developability(meshes_dir, nam
         assert stats["result"] == native.RESULT_IMPROVED, label
         assert stats["faces_turned_over"] == 0, label
         assert (
-            stats["ruled_share_after"] >= 0.85 * reference["ruled_share_after"]
+            stats["ruled_share_after"] >= 0.9 * reference["ruled_share_after"]
         ), "%s %s: %.1f %% flat and ruled against %.1f %%" % (
             name,
             label,

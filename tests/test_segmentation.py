@@ -200,7 +200,8 @@ def test_whole_objects_with_the_defaults_bend_without_crumpling(library, meshes_
     """human_woman with every default: ruled pieces, not a crumpled mask. No
     edge inside a patch sharpened by more than the crease guard's 20 degrees
     (without the guard 7.9 % of the edges were, the fingers pressed into
-    blades); at least 40 % of the interior vertices flat and ruled (44.6 %;
+    blades); at least 45 % of the interior vertices flat and ruled (48.3 %,
+    44.6 % before the ruled polish gave up sooner, docs/segmentation.md;
     the flat-by-zigzag result the order took before ranking closed meshes by
     that share: 64.8 % flat, 33.6 % flat and ruled, 31 % crumpled), at most 3 %
     crumpled (issue 35's bound), within 1 % of the diagonal, no face turned
@@ -210,7 +211,7 @@ def test_whole_objects_with_the_defaults_bend_without_crumpling(library, meshes_
     assert result.stats["patches"] > 1
     assert len(sharpened_edges(positions, result.positions, triangles, result.patch_ids, 21.0)) == 0
     after = developability_figures(result.positions, triangles)
-    assert after["flat_and_ruled"] >= 0.40, after
+    assert after["flat_and_ruled"] >= 0.45, after
     assert after["crumpled"] <= 0.03, after
     assert result.stats["faces_turned_over"] == 0
     # The move limit is 1 % of the diagonal exactly, and the vertex at it sets the distance.

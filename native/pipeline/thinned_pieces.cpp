@@ -161,6 +161,7 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   for (size_t v = 0; v < inside.size(); ++v) inside[v] = inside[v] && !border[v] && !input.pinned[v];
   RuledPolishOptions ruled;
   ruled.max_iterations = kThinnedPolishIterations;
+  ruled.robust = kThinnedPolishRobust;
   ruled.limit = input.limit;
   ruled.spare_cores = input.spare_cores;
   ruled.crease_guard = piece_crease;

@@ -47,6 +47,22 @@ std::vector<int> numbered(std::vector<int> labels) {
   return labels;
 }
 
+// Whether some corner of a face of `piece` has all its faces in it (a
+// vertex of its own; else every corner is also another piece's).
+bool has_vertex_of_its_own(int piece, const std::vector<int>& labels, const Triangles& triangles,
+                           const VertexFaces& connectivity) {
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    if (labels[static_cast<size_t>(f)] != piece) continue;
+    for (int c = 0; c < 3; ++c) {
+      const int v = triangles(f, c);
+      if (std::all_of(connectivity.begin(v), connectivity.end(v),
+                      [&](int g) { return labels[static_cast<size_t>(g)] == piece; }))
+        return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFaces& connectivity, const Normals& normals,
@@ -92,25 +108,16 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
       entry.edges += 1;
       entry.creased = entry.creased || e.creased;
     }
-    // A piece with no vertex of its own (every corner also a corner of
-    // another piece's face) has no surface to make developable: it joins a
-    // neighbour whatever its borders.
-    bool own_vertex = false;
-    for (Eigen::Index f = 0; f < m && !own_vertex; ++f) {
-      if (labels[static_cast<size_t>(f)] != smallest) continue;
-      for (int c = 0; c < 3 && !own_vertex; ++c) {
-        const int v = triangles(f, c);
-        bool all = true;
-        for (const int* g = connectivity.begin(v); g != connectivity.end(v); ++g)
-          all = all && labels[static_cast<size_t>(*g)] == smallest;
-        own_vertex = all;
-      }
-    }
+    // A piece with no vertex of its own has no surface to make developable:
+    // it joins a neighbour whatever its borders (asked only where one is
+    // creased: else the answer changes nothing).
+    const bool any_creased = std::any_of(border.begin(), border.end(), [](const auto& b) { return b.second.creased; });
+    const bool crosses_creases = any_creased && !has_vertex_of_its_own(smallest, labels, triangles, connectivity);
     int into = -1;
     double best = 0.0;
     for (const auto& [piece, b] : border) {
       const double mean = b.sum / b.edges;
-      if ((!b.creased || !own_vertex) && (into < 0 || mean < best)) into = piece, best = mean;
+      if ((!b.creased || crosses_creases) && (into < 0 || mean < best)) into = piece, best = mean;
     }
     if (into < 0) {
       stuck[static_cast<size_t>(smallest)] = true;

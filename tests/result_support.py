@@ -14,16 +14,32 @@ def is_closed(triangles):
     return bool(np.all(count == 2))
 
 
+def border_vertices(triangles, patch_ids, n_vertices):
+    """(n,) bool: the vertices with faces of more than one patch."""
+    lowest = np.full(n_vertices, np.iinfo(np.int32).max)
+    highest = np.full(n_vertices, np.iinfo(np.int32).min)
+    corner_patch = np.repeat(patch_ids, 3)
+    np.minimum.at(lowest, triangles.reshape(-1), corner_patch)
+    np.maximum.at(highest, triangles.reshape(-1), corner_patch)
+    return lowest != highest
+
+
 def check_honest(positions, triangles, result):
     """What every result must satisfy, whatever the mesh."""
     s = result.stats
     turned = np.sum(turned_faces(positions, result.positions, triangles) < 0)
     assert turned == 0 and s["faces_turned_over"] == 0
     if s["mean_defect_after"] > s["mean_defect_before"]:
-        # Only a closed surface, whose total curvature cannot go (Gauss-Bonnet),
-        # may trade a little mean |defect| for flat patches, and it is said.
-        assert is_closed(triangles)
-        assert s["mean_defect_after"] <= 1.05 * s["mean_defect_before"]
+        # Only a whole object, whose total curvature cannot go (Gauss-Bonnet),
+        # may gather it on the seams of its pieces: the mean |defect| inside
+        # them does not grow (a closed one's up to 5 %), and the growth is said.
+        closed = is_closed(triangles)
+        assert closed or np.sum(result.defect_before[result.interior]) >= np.pi  # is_object
+        inside = result.interior & ~border_vertices(triangles, result.patch_ids, len(positions))
+        assert (
+            np.mean(np.abs(result.defect_after[inside]))
+            <= (1.05 if closed else 1.0) * np.mean(np.abs(result.defect_before[inside])) + 1e-15
+        )
         assert "mean |defect| grew" in s["result_message"]
     assert s["flat_share_before"] == pytest.approx(flat_share(result.defect_before, result.interior))
     assert s["flat_share_after"] == pytest.approx(flat_share(result.defect_after, result.interior))

@@ -143,7 +143,10 @@ def test_an_open_whole_object_is_planned_as_a_closed_one(library, meshes_dir):
     assert auto.stats["ruled_share_after"] >= 0.38
 
 
-@pytest.mark.parametrize("name", ["boat", "wingnut"])
+# wingnut was here too until 2026-12-06: 77 % of its vertices flat, its boss and wing tips doubly
+# curved, it came back unchanged only because its thinned pieces raised the mean |defect| over every
+# vertex by 35 %; held inside its pieces it comes back as them (test_objects_pieces.py).
+@pytest.mark.parametrize("name", ["boat"])
 def test_piecewise_developable_meshes_keep_their_shape(library, meshes_dir, name):
     positions, triangles = read_obj(meshes_dir / (name + ".obj"))
     result = native.run(positions, triangles)

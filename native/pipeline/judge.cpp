@@ -10,18 +10,22 @@ IterateScore::IterateScore(std::vector<bool> scored, bool median) : scored_(std:
 }
 
 double IterateScore::operator()(const Eigen::VectorXd& defects) const {
+  if (!median_) return mean(defects);
   if (count_ == 0) return 0.0;
   values_.clear();
-  double sum = 0.0;
-  for (Eigen::Index v = 0; v < defects.size(); ++v) {
-    if (!scored_[static_cast<size_t>(v)]) continue;
-    sum += std::abs(defects[v]);
-    if (median_) values_.push_back(std::abs(defects[v]));
-  }
-  if (!median_) return sum / static_cast<double>(count_);
+  for (Eigen::Index v = 0; v < defects.size(); ++v)
+    if (scored_[static_cast<size_t>(v)]) values_.push_back(std::abs(defects[v]));
   const auto middle = values_.begin() + static_cast<std::ptrdiff_t>(values_.size() / 2);
   std::nth_element(values_.begin(), middle, values_.end());
   return *middle;
+}
+
+double IterateScore::mean(const Eigen::VectorXd& defects) const {
+  if (count_ == 0) return 0.0;
+  double sum = 0.0;
+  for (Eigen::Index v = 0; v < defects.size(); ++v)
+    if (scored_[static_cast<size_t>(v)]) sum += std::abs(defects[v]);
+  return sum / static_cast<double>(count_);
 }
 
 double flat_share(const Eigen::VectorXd& defects, const std::vector<bool>& interior) {
@@ -61,6 +65,7 @@ Measured Judge::measure(const Positions& positions, const Normals& normals, Deta
   m.figures.flat = flat_share(m.defects, interior_);
   m.figures.turned = static_cast<Eigen::Index>(turned_over_faces(normals, input_normals_).size());
   m.figures.score = score_(m.defects);
+  m.figures.mean_inside = score_.mean(m.defects);
   if (detail == Detail::candidate) {
     m.figures.creased = static_cast<Eigen::Index>(crease_guard_.creased_faces(normals).size());
     complete(m, positions, normals);
@@ -80,7 +85,7 @@ void Judge::measure_rulings(Measured& measured, const Positions& positions, cons
 }
 
 bool Judge::admissible(const Measured& candidate) {
-  const Admission admission = admit(candidate.figures, input_.figures, closed_);
+  const Admission admission = admit(candidate.figures, input_.figures, closed_, object_);
   rejected_.record(admission, candidate.figures.score, input_.figures.score, candidate.figures.turned);
   return admission.ok();
 }

@@ -28,6 +28,9 @@ class IterateScore {
   // The vertices the score reads.
   const std::vector<bool>& scored() const { return scored_; }
   double operator()(const Eigen::VectorXd& defects) const;
+  // The mean |defect| over the scored vertices (rad; Figures::mean_inside),
+  // 0 when none is scored.
+  double mean(const Eigen::VectorXd& defects) const;
 
  private:
   std::vector<bool> scored_;
@@ -53,8 +56,9 @@ class Judge {
   // input: the input's defects and figures (score by `score`); connectivity:
   // the faces around each vertex (the rulings); closed: the mesh has no
   // boundary (admit); object: a whole object (is_object), whose rulings the
-  // order reads; crease_guard: the run's (its patches and growth). The
-  // references must outlive this.
+  // order reads and whose mean |defect| admit holds inside the pieces;
+  // crease_guard: the run's (its patches and growth). The references must
+  // outlive this.
   Judge(const Triangles& triangles, const std::vector<bool>& interior, const VertexFaces& connectivity,
         const Normals& input_normals, IterateScore score, Measured input, bool closed, bool object,
         CreaseGuard crease_guard);

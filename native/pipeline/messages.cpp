@@ -91,8 +91,8 @@ std::string result_message(const PipelineStats& stats, const Rejections& rejecte
   char text[320];
   if (stats.mean_defect_after > stats.mean_defect_before) {
     std::snprintf(text, sizeof text,
-                  "Improved, but the mean |defect| grew by %.1f %%%s%s: a closed surface keeps its total "
-                  "curvature, which gathered on the seams between the flat patches.",
+                  "Improved, but the mean |defect| grew by %.1f %%%s%s: a whole object keeps its total "
+                  "curvature, which gathered on the seams between its pieces.",
                   100.0 * (stats.mean_defect_after / stats.mean_defect_before - 1.0), largest[0] ? " and " : "",
                   largest);
     return text;

@@ -30,6 +30,7 @@ Judge judge_of(const PatchRun& run) {
   measured.figures.mean = input.before.mean_abs;
   measured.figures.max = input.before.max_abs;
   measured.figures.score = score(measured.defects);
+  measured.figures.mean_inside = score.mean(measured.defects);
   return Judge(input.triangles, input.measured.interior, input.connectivity, input.normals, score, std::move(measured),
                input.closed, input.object, run.crease_guard);
 }
@@ -149,8 +150,7 @@ PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positio
   const Normals normals = face_normals(candidate.positions, input.triangles);
   // An object's judge has measured the rulings (Figures::crumpled).
   const Measured now = judge.measure(candidate.positions, normals);
-  const bool crumpled = now.figures.crumpled() > input.measured.stats.shares_before.crumpled + kThinnedCrumpleSlack;
-  if (judge.admissible(now) && now.figures.score < choice.best_score && !crumpled) {
+  if (judge.admissible(now) && now.figures.score < choice.best_score && !crumpled(now.figures, judge.input().figures)) {
     choice.keep(candidate.positions, now, ResultOrigin::thinned_pieces);
     choice.polish_iterations = candidate.polish_iterations;
   }

@@ -38,19 +38,14 @@ Figures result_figures(const PipelineResult& result);
 // throw.
 PipelineResult finish_plan_result(const MeasuredInput& input, PipelineResult result, const Progress& progress);
 
-// How many points (share of the interior vertices) more crumpled (flat, not
-// ruled: vertex_shares in measures.h) than the input a thinned-pieces
-// candidate may be: its promise is developability that is not bought by
-// zigzags (issue 35 asks for at most 3 % inside pieces).
-inline constexpr double kThinnedCrumpleSlack = 0.03;
-
 // An alternative of the thinned-pieces generator (thinned_pieces.h) from
 // the thinned mesh `thinned` (thin_whole) with the pieces of `source` and
 // the thinning's `deformation` (thinned_pieces): its
 // pieces as the patches, its mesh as the one candidate, held to the
-// admissibility rule (selection.h) like any other and to
-// kThinnedCrumpleSlack; the input when either turns it away. For a whole
-// object (input.object: its judge measures the rulings the slack reads).
+// admissibility rule (selection.h) like any other and not crumpled (its
+// promise: developability not bought by zigzags); the input when either
+// turns it away. For a whole object (input.object: its judge measures the
+// rulings `crumpled` reads).
 // Throws what the stages throw.
 PipelineResult run_thinned_alternative(const MeasuredInput& input, const Positions& thinned, PieceSource source,
                                        NormalGuidedDeformation deformation, const Progress& progress);

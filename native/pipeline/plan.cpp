@@ -145,23 +145,30 @@ Figures figures_of(const MeasuredInput& input) {
 }
 
 // Of the results of the alternatives, the one the order (select) returns:
-// an improved one over the input returned unchanged; of the improved ones
-// the one that moved the input least of those as developable as the most
-// developable; the first when none improved.
+// an improved one over the input returned unchanged; on a whole object one
+// not crumpled over crumpled ones; of those the one that moved the input
+// least of those as developable as the most developable; the first when none
+// improved.
 PipelineResult& preferred(const MeasuredInput& input, const std::vector<PipelineResult*>& results) {
-  std::vector<Contestant> contestants;
+  const Figures input_figures = figures_of(input);
   std::vector<PipelineResult*> improved;
-  for (PipelineResult* r : results) {
-    if (r->stats.result != ResultKind::improved) continue;
+  for (PipelineResult* r : results)
+    if (r->stats.result == ResultKind::improved) improved.push_back(r);
+  if (input.object) {
+    std::vector<PipelineResult*> not_crumpled;
+    for (PipelineResult* r : improved)
+      if (!crumpled(result_figures(*r), input_figures)) not_crumpled.push_back(r);
+    if (!not_crumpled.empty()) improved = std::move(not_crumpled);
+  }
+  if (improved.empty()) return *results.front();
+  if (improved.size() == 1) return *improved.front();
+  std::vector<Contestant> contestants;
+  for (PipelineResult* r : improved) {
     Contestant c;
     c.figures = result_figures(*r);
     c.motion = motion_of(r->positions, input.positions);
     contestants.push_back(c);
-    improved.push_back(r);
   }
-  if (improved.empty()) return *results.front();
-  if (improved.size() == 1) return *improved.front();
-  const Figures input_figures = figures_of(input);
   // Each result passed its own run's roughness test: no second one here (a
   // one-patch polish of a noisy input is rougher than a split run's result
   // and far more developable: a generalized cone on an irregular

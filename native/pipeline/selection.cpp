@@ -6,11 +6,13 @@
 
 namespace developable {
 
-Admission admit(const Figures& candidate, const Figures& input, bool closed) {
+Admission admit(const Figures& candidate, const Figures& input, bool closed, bool object) {
   Admission a;
   a.folded = candidate.turned > 0;
   a.creased = candidate.creased > 0;
-  a.defect_grew = candidate.mean > input.mean * (closed ? 1.0 + kClosedMeshGrowth : 1.0);
+  const double mean = object ? candidate.mean_inside : candidate.mean;
+  const double input_mean = object ? input.mean_inside : input.mean;
+  a.defect_grew = mean > input_mean * (closed ? 1.0 + kClosedMeshGrowth : 1.0);
   a.flat_share_fell = candidate.flat < input.flat;
   a.no_score_gain = !(candidate.score < (1.0 - kLeastGain) * input.score);
   a.no_visible_gain = !visible_gain(candidate, input);
@@ -46,6 +48,10 @@ bool ruled_finish_kept(const Figures& finished, const Motion& finished_motion, c
   return gain > kFlatSlack && gain > choice.flat - finished.flat &&
          finished.max <= allowed_largest_defect(choice.max, input.max) &&
          finished_motion.largest <= kFinishReach * choice_motion.largest;
+}
+
+bool crumpled(const Figures& result, const Figures& input) {
+  return result.crumpled() > input.crumpled() + kCrumpleSlack;
 }
 
 bool moves_less(const Motion& candidate, const Motion& other) { return candidate.rms < other.rms; }

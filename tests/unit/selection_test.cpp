@@ -25,23 +25,55 @@ const Figures kInput = figures(0.2, 0.01, 0.5, 0.01);
 // No face turned over, no crease, the mean |defect| not above the input's (a
 // closed mesh's up to 5 % above), the flat share not below it, a gain.
 TEST(Selection, AdmitHoldsEveryFigureTheUserSeesToTheInputAndWantsAGain) {
-  EXPECT_TRUE(admit(figures(0.21, 0.01, 9.0, 0.001), kInput, false).ok());  // the largest |defect| is not held
-  const Admission folded = admit(figures(0.9, 0.001, 0.1, 0.001, 1), kInput, false);
+  EXPECT_TRUE(admit(figures(0.21, 0.01, 9.0, 0.001), kInput, false, false).ok());  // the largest |defect| is not held
+  const Admission folded = admit(figures(0.9, 0.001, 0.1, 0.001, 1), kInput, false, false);
   EXPECT_TRUE(folded.folded && !folded.creased && !folded.defect_grew && !folded.flat_share_fell &&
               !folded.no_score_gain && !folded.no_visible_gain);
   Figures creased = figures(0.9, 0.001, 0.1, 0.001);
   creased.creased = 2;
-  EXPECT_TRUE(admit(creased, kInput, false).creased);
-  EXPECT_TRUE(admit(figures(0.9, 0.0101, 0.1, 0.001), kInput, false).defect_grew);
-  EXPECT_TRUE(admit(figures(0.19, 0.001, 0.1, 0.001), kInput, false).flat_share_fell);
+  EXPECT_TRUE(admit(creased, kInput, false, false).creased);
+  EXPECT_TRUE(admit(figures(0.9, 0.0101, 0.1, 0.001), kInput, false, false).defect_grew);
+  EXPECT_TRUE(admit(figures(0.19, 0.001, 0.1, 0.001), kInput, false, false).flat_share_fell);
   // kClosedMeshGrowth: 5 % more mean |defect| on a closed mesh, not 5.1 %.
-  EXPECT_TRUE(admit(figures(0.9, 0.0105, 0.1, 0.001), kInput, true).ok());
-  EXPECT_TRUE(admit(figures(0.9, 0.01051, 0.1, 0.001), kInput, true).defect_grew);
+  EXPECT_TRUE(admit(figures(0.9, 0.0105, 0.1, 0.001), kInput, true, false).ok());
+  EXPECT_TRUE(admit(figures(0.9, 0.01051, 0.1, 0.001), kInput, true, false).defect_grew);
   // The gain: a score kLeastGain (1e-6) below the input's, and a visible one.
-  EXPECT_TRUE(admit(figures(0.9, 0.001, 0.1, 0.01 * (1 - 0.5e-6)), kInput, false).no_score_gain);
-  EXPECT_FALSE(admit(figures(0.9, 0.001, 0.1, 0.01 * (1 - 2e-6)), kInput, false).no_score_gain);
-  const Admission score_only = admit(figures(0.2, 0.01, 0.1, 0.001), kInput, false);  // the score alone is no gain
+  EXPECT_TRUE(admit(figures(0.9, 0.001, 0.1, 0.01 * (1 - 0.5e-6)), kInput, false, false).no_score_gain);
+  EXPECT_FALSE(admit(figures(0.9, 0.001, 0.1, 0.01 * (1 - 2e-6)), kInput, false, false).no_score_gain);
+  const Admission score_only =
+      admit(figures(0.2, 0.01, 0.1, 0.001), kInput, false, false);  // the score alone is no gain
   EXPECT_TRUE(score_only.no_visible_gain && !score_only.no_score_gain && !score_only.ok());
+}
+
+// On a whole object the mean |defect| held is the one inside the pieces: the
+// curvature may gather on the seams (the mean over every vertex grows) as long
+// as it leaves the pieces; a sheet is held over every vertex.
+TEST(Selection, AdmitHoldsAnObjectsMeanInsideItsPieces) {
+  Figures input = kInput;
+  input.mean_inside = 0.008;
+  Figures gathered = figures(0.6, 0.02, 2.0, 0.001);  // twice the input's mean, on the seams
+  gathered.mean_inside = 0.002;
+  EXPECT_TRUE(admit(gathered, input, true, true).ok());
+  EXPECT_TRUE(admit(gathered, input, true, false).defect_grew);
+  Figures inside_grew = figures(0.6, 0.009, 0.5, 0.001);  // lower over every vertex, higher inside
+  inside_grew.mean_inside = 0.008 * 1.051;
+  EXPECT_TRUE(admit(inside_grew, input, true, true).defect_grew);
+  EXPECT_TRUE(admit(inside_grew, input, true, false).ok());
+  inside_grew.mean_inside = 0.008 * 1.049;  // kClosedMeshGrowth holds inside as it did over every vertex
+  EXPECT_TRUE(admit(inside_grew, input, true, true).ok());
+  EXPECT_TRUE(admit(inside_grew, input, false, true).defect_grew);  // an open object: no growth
+}
+
+// Crumpled: more than kCrumpleSlack (3 points) of the interior vertices more
+// flat-but-not-ruled than the input.
+TEST(Selection, CrumpledIsMoreThanThreePointsMoreFlatButNotRuledThanTheInput) {
+  Figures input = figures(0.2, 0.01, 0.5);
+  input.ruled = 0.19;  // 1 % crumpled
+  Figures result = figures(0.7, 0.01, 0.5);
+  result.ruled = 0.7 - 0.0399;
+  EXPECT_FALSE(crumpled(result, input));
+  result.ruled = 0.7 - 0.0401;
+  EXPECT_TRUE(crumpled(result, input));
 }
 
 // A gain the user sees: more flat vertices, or a mean |defect| lower by
@@ -220,17 +252,18 @@ TEST(Selection, SelectReturnsTheLeastMovingOfThoseAsDevelopableAsTheMostDevelopa
 // reason of an unchanged run follows from them.
 TEST(Selection, RejectionsAndTheUnchangedReason) {
   Rejections r;
-  r.record(admit(figures(0.1, 0.02, 0.1, 0.02, 3), kInput, false), 0.02, 0.01, 3);  // scored worse: not counted
+  r.record(admit(figures(0.1, 0.02, 0.1, 0.02, 3), kInput, false, false), 0.02, 0.01, 3);  // scored worse: not counted
   EXPECT_EQ(unchanged_reason(r, 0.2), UnchangedReason::no_better_iterate);
   EXPECT_EQ(unchanged_reason(r, 1.0), UnchangedReason::already_flat);
-  r.record(admit(figures(0.9, 0.001, 0.1, 0.001, 3), kInput, false), 0.001, 0.01, 3);
-  r.record(admit(figures(0.9, 0.001, 0.1, 0.001, 2), kInput, false), 0.001, 0.01, 2);
+  r.record(admit(figures(0.9, 0.001, 0.1, 0.001, 3), kInput, false, false), 0.001, 0.01, 3);
+  r.record(admit(figures(0.9, 0.001, 0.1, 0.001, 2), kInput, false, false), 0.001, 0.01, 2);
   EXPECT_EQ(r.folded, 2);
   EXPECT_EQ(r.fewest_turned_over, 2);
   EXPECT_EQ(unchanged_reason(r, 0.2), UnchangedReason::rejected);
-  r.record(admit(figures(0.2, 0.01, 0.1, 0.01 * (1 - 0.5e-6)), kInput, false), 0.01 * (1 - 0.5e-6), 0.01, 0);
+  r.record(admit(figures(0.2, 0.01, 0.1, 0.01 * (1 - 0.5e-6)), kInput, false, false), 0.01 * (1 - 0.5e-6), 0.01, 0);
   EXPECT_EQ(r.no_visible_gain, 0);  // a score gain within rounding is no gain at all
-  r.record(admit(figures(0.2, 0.01, 0.1, 0.001), kInput, false), 0.001, 0.01, 0);  // broke nothing, gained nothing
+  r.record(admit(figures(0.2, 0.01, 0.1, 0.001), kInput, false, false), 0.001, 0.01,
+           0);  // broke nothing, gained nothing
   EXPECT_EQ(r.no_visible_gain, 1);
   EXPECT_EQ(unchanged_reason(r, 0.2), UnchangedReason::no_visible_gain);
   r.developable_patches = true;
@@ -241,7 +274,8 @@ TEST(Selection, RejectionsAndTheUnchangedReason) {
 // the order's slack is already flat, not a result that "made no vertex flat".
 TEST(Selection, AFlatInputWithoutAVisibleGainIsAlreadyFlat) {
   Rejections r;
-  r.record(admit(figures(1.0, 0.01 * (1 - 0.003), 0.1, 0.001), figures(1.0, 0.01, 0.1, 0.01), false), 0.001, 0.01, 0);
+  r.record(admit(figures(1.0, 0.01 * (1 - 0.003), 0.1, 0.001), figures(1.0, 0.01, 0.1, 0.01), false, false), 0.001,
+           0.01, 0);
   EXPECT_EQ(r.no_visible_gain, 1);
   EXPECT_EQ(unchanged_reason(r, 1.0), UnchangedReason::already_flat);
   EXPECT_EQ(unchanged_reason(r, 0.99), UnchangedReason::no_visible_gain);

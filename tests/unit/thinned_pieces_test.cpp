@@ -8,12 +8,14 @@
 #include "core/measures.h"
 #include "core/mesh_connectivity.h"
 #include "pipeline/patch_alternative.h"
+#include "pipeline/patches.h"
 #include "pipeline/run_context.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace developable {
 namespace {
@@ -73,7 +75,7 @@ TEST(ThinnedPieces, KeepsTheLimitTheFacesAndThePiecesUncreased) {
     EXPECT_TRUE(guard.creased_faces(after).empty());
     const VertexShares before = shares_of(input.positions, input.triangles, run.table, input.measured.interior);
     const VertexShares now = shares_of(thinned.positions, input.triangles, run.table, input.measured.interior);
-    EXPECT_LE(now.crumpled, before.crumpled + kThinnedCrumpleSlack);
+    EXPECT_LE(now.crumpled, before.crumpled + kCrumpleSlack);
     EXPECT_GT(now.ruled, before.ruled);  // flat and ruled share
     // Deterministic, and the shared factor steps as a factor of its own.
     EXPECT_EQ(thinned_pieces(input, whole, source, thinning_deformation(input), {}).positions, thinned.positions);
@@ -89,7 +91,17 @@ TEST(ThinnedPieces, ItsAlternativeIsHeldToTheOneRule) {
   if (r.stats.result == ResultKind::improved) {
     EXPECT_EQ(r.stats.origin, ResultOrigin::thinned_pieces);
     EXPECT_GE(r.stats.flat_share_after, r.stats.flat_share_before);
-    EXPECT_LE(r.stats.mean_defect_after, (1.0 + 0.05) * r.stats.mean_defect_before);
+    // An object's mean |defect| is held inside its pieces (admit): the
+    // curvature gathers on the seams.
+    const std::vector<bool> border =
+        patch_border_vertices(run.input.triangles, r.patch_ids, run.input.positions.rows());
+    double before = 0.0, after = 0.0;
+    for (size_t v = 0; v < border.size(); ++v)
+      if (r.interior[v] && !border[v]) {
+        before += std::abs(r.defect_before[static_cast<Eigen::Index>(v)]);
+        after += std::abs(r.defect_after[static_cast<Eigen::Index>(v)]);
+      }
+    EXPECT_LE(after, (1.0 + kClosedMeshGrowth) * before);
     EXPECT_EQ(r.stats.faces_turned_over, 0);
   } else {
     EXPECT_EQ(r.stats.origin, ResultOrigin::input);

@@ -3,8 +3,11 @@
 #include "core/union_find.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <queue>
 
 namespace developable {
 namespace {
@@ -47,12 +50,12 @@ std::vector<int> numbered(std::vector<int> labels) {
   return labels;
 }
 
-// Whether some corner of a face of `piece` has all its faces in it (a
+// Whether some corner of the piece of `faces` has all its faces in it (a
 // vertex of its own; else every corner is also another piece's).
-bool has_vertex_of_its_own(int piece, const std::vector<int>& labels, const Triangles& triangles,
+bool has_vertex_of_its_own(const std::vector<int>& faces, const std::vector<int>& labels, const Triangles& triangles,
                            const VertexFaces& connectivity) {
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    if (labels[static_cast<size_t>(f)] != piece) continue;
+  const int piece = labels[static_cast<size_t>(faces.front())];
+  for (const int f : faces) {
     for (int c = 0; c < 3; ++c) {
       const int v = triangles(f, c);
       if (std::all_of(connectivity.begin(v), connectivity.end(v),
@@ -82,27 +85,45 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
   int count = m > 0 ? 1 + *std::max_element(labels.begin(), labels.end()) : 0;
   std::vector<int> size(static_cast<size_t>(count), 0);
   for (int l : labels) ++size[static_cast<size_t>(l)];
-  // Merge the small pieces, smallest first. Each merge rescans the border
-  // edges: the count of small pieces is small after a crease split of a
-  // thinned mesh (hundreds), and a scan is linear in the edges.
-  std::vector<bool> stuck(static_cast<size_t>(count), false);
-  for (;;) {
-    int smallest = -1;
-    for (int p = 0; p < count; ++p)
-      if (size[static_cast<size_t>(p)] > 0 && size[static_cast<size_t>(p)] < min_faces &&
-          !stuck[static_cast<size_t>(p)] &&
-          (smallest < 0 || size[static_cast<size_t>(p)] < size[static_cast<size_t>(smallest)]))
-        smallest = p;
-    if (smallest < 0) break;
+  // Merge the small pieces, smallest first (the lowest id of equal sizes).
+  // A merge reads only the small piece's own faces and border edges, in the
+  // order of `edges`, so its sums and choice are those of a scan of them all.
+  std::vector<std::vector<int>> faces_of(static_cast<size_t>(count));
+  for (Eigen::Index f = 0; f < m; ++f)
+    faces_of[static_cast<size_t>(labels[static_cast<size_t>(f)])].push_back(static_cast<int>(f));
+  std::vector<std::array<int, 3>> edges_of(static_cast<size_t>(m), {-1, -1, -1});  // indices into `edges`
+  for (size_t e = 0; e < edges.size(); ++e)
+    for (const int f : {edges[e].f, edges[e].g}) {
+      std::array<int, 3>& slots = edges_of[static_cast<size_t>(f)];
+      *std::find(slots.begin(), slots.end(), -1) = static_cast<int>(e);
+    }
+  using Entry = std::pair<int, int>;  // (size, piece), smallest first
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (int p = 0; p < count; ++p)
+    if (size[static_cast<size_t>(p)] < min_faces) queue.emplace(size[static_cast<size_t>(p)], p);
+  std::vector<bool> stuck(static_cast<size_t>(count), false);  // no border it may cross, for good
+  std::vector<int> border_edges;
+  while (!queue.empty()) {
+    const auto [entry_size, smallest] = queue.top();
+    queue.pop();
+    if (entry_size != size[static_cast<size_t>(smallest)] || stuck[static_cast<size_t>(smallest)])
+      continue;  // merged, grown since, or stuck
+    border_edges.clear();
+    for (const int f : faces_of[static_cast<size_t>(smallest)])
+      for (const int e : edges_of[static_cast<size_t>(f)])
+        if (e >= 0 && labels[static_cast<size_t>(edges[static_cast<size_t>(e)].f)] !=
+                          labels[static_cast<size_t>(edges[static_cast<size_t>(e)].g)])
+          border_edges.push_back(e);
+    std::sort(border_edges.begin(), border_edges.end());
     struct Border {
       double sum = 0.0;
       int edges = 0;
       bool creased = false;
     };
     std::map<int, Border> border;  // by neighbour
-    for (const FaceEdge& e : edges) {
+    for (const int index : border_edges) {
+      const FaceEdge& e = edges[static_cast<size_t>(index)];
       const int a = labels[static_cast<size_t>(e.f)], b = labels[static_cast<size_t>(e.g)];
-      if (a == b || (a != smallest && b != smallest)) continue;
       Border& entry = border[a == smallest ? b : a];
       entry.sum += e.angle;
       entry.edges += 1;
@@ -112,7 +133,8 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
     // it joins a neighbour whatever its borders (asked only where one is
     // creased: else the answer changes nothing).
     const bool any_creased = std::any_of(border.begin(), border.end(), [](const auto& b) { return b.second.creased; });
-    const bool crosses_creases = any_creased && !has_vertex_of_its_own(smallest, labels, triangles, connectivity);
+    const bool crosses_creases =
+        any_creased && !has_vertex_of_its_own(faces_of[static_cast<size_t>(smallest)], labels, triangles, connectivity);
     int into = -1;
     double best = 0.0;
     for (const auto& [piece, b] : border) {
@@ -123,10 +145,15 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
       stuck[static_cast<size_t>(smallest)] = true;
       continue;
     }
-    for (int& l : labels)
-      if (l == smallest) l = into;
+    std::vector<int>& merged = faces_of[static_cast<size_t>(into)];
+    for (const int f : faces_of[static_cast<size_t>(smallest)]) {
+      labels[static_cast<size_t>(f)] = into;
+      merged.push_back(f);
+    }
+    faces_of[static_cast<size_t>(smallest)] = {};
     size[static_cast<size_t>(into)] += size[static_cast<size_t>(smallest)];
     size[static_cast<size_t>(smallest)] = 0;
+    if (size[static_cast<size_t>(into)] < min_faces) queue.emplace(size[static_cast<size_t>(into)], into);
   }
   return numbered(std::move(labels));
 }

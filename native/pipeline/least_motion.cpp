@@ -244,7 +244,8 @@ struct LeastMotionAhead::Work {
   // past it (those dropped at once).
   void set_choice_move(double move) {
     choice_move = move;
-    if (deformed_only_move == 0.0) deformed_only_move = move;
+    double unknown = kNotKnown;
+    deformed_only_move.compare_exchange_strong(unknown, move);
   }
 
   // Where nothing was deformed the choice's polish is the polish of the
@@ -254,7 +255,7 @@ struct LeastMotionAhead::Work {
   void drop_deformed_only() {
     taken[raw_input] = true;
     taken[smoothed] = true;
-    deformed_only_move = std::numeric_limits<double>::min();
+    deformed_only_move = kDropped;
   }
 
   // The early polishes, in the order they are taken (the longest first).
@@ -300,10 +301,18 @@ struct LeastMotionAhead::Work {
       for (int k = 0; k < count; ++k) take(static_cast<Polish>(k), progress);
   }
 
+  // The give-up bounds' values that are no move (PolishOptions::late_give_up_move):
+  // not known yet, and dropped (every move is past it: the polish gives up at
+  // its next step).
+  static constexpr double kNotKnown = 0.0;
+  static constexpr double kDropped = std::numeric_limits<double>::min();
+
   const PatchRun& run;
   const bool polishes_ahead;  // else the ahead thread only smooths
-  std::atomic<double> choice_move{0.0};
-  std::atomic<double> deformed_only_move{0.0};
+  std::atomic<double> choice_move{kNotKnown};
+  // The bound of the polishes only a deformed run makes candidates of (the
+  // raw input's and the smoothed start's): the choice's move, or kDropped.
+  std::atomic<double> deformed_only_move{kNotKnown};
   PolishOptions input_options;     // the raw input's
   PolishOptions smoothed_options;  // the smoothed start's
   PolishOptions late_options;      // the projected and stepped starts'

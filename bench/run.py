@@ -12,6 +12,7 @@ Every case runs in its own subprocess (bench/worker.py) so that its peak
 memory is its own; the cases run one after another so that they do not share
 the two cores. Build first: cmake -S . -B build && cmake --build build -j2."""
 import argparse
+import hashlib
 import json
 import os
 import pathlib
@@ -188,7 +189,9 @@ def run_profiles(args, workdir):
 
     if not callgrind.available():
         return {"skipped": "valgrind or callgrind_annotate not found"}
-    build_dir = pathlib.Path(tempfile.gettempdir()) / "developable-bench-profile-build"
+    # One profile build per checkout: CMake refuses a build folder another source made.
+    checkout = hashlib.sha1(str(REPO).encode()).hexdigest()[:8]
+    build_dir = pathlib.Path(tempfile.gettempdir()) / ("developable-bench-profile-build-" + checkout)
     log("profile: building the engine with -g into %s" % build_dir)
     tool = callgrind.build(build_dir)
     out = {"cases": []}

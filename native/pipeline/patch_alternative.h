@@ -22,7 +22,9 @@ namespace developable {
 PipelineResult run_patch_alternative(const MeasuredInput& input, Patches patches, const Progress& progress);
 
 // The figures the order reads of a result, from its stats (flat,
-// flat-and-ruled, mean and largest |defect|).
+// flat-and-ruled, mean and largest |defect|). Not the score, the mean inside
+// the patches nor the counts admit reads: a result was admitted by its run's
+// judge.
 Figures result_figures(const PipelineResult& result);
 
 // The plan's chosen result of a sheet finished flat and ruled (ruled_finish.h):

@@ -5,23 +5,13 @@ import numpy as np
 import pytest
 
 from devkit.binding import native
-from devkit.measures import flat_share, turned_faces
+from devkit.measures import flat_share, seam_vertices, turned_faces
 
 
 def is_closed(triangles):
     edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1)
     _, count = np.unique(edges, axis=0, return_counts=True)
     return bool(np.all(count == 2))
-
-
-def border_vertices(triangles, patch_ids, n_vertices):
-    """(n,) bool: the vertices with faces of more than one patch."""
-    lowest = np.full(n_vertices, np.iinfo(np.int32).max)
-    highest = np.full(n_vertices, np.iinfo(np.int32).min)
-    corner_patch = np.repeat(patch_ids, 3)
-    np.minimum.at(lowest, triangles.reshape(-1), corner_patch)
-    np.maximum.at(highest, triangles.reshape(-1), corner_patch)
-    return lowest != highest
 
 
 def check_honest(positions, triangles, result):
@@ -35,7 +25,7 @@ def check_honest(positions, triangles, result):
         # them does not grow (a closed one's up to 5 %), and the growth is said.
         closed = is_closed(triangles)
         assert closed or np.sum(result.defect_before[result.interior]) >= np.pi  # is_object
-        inside = result.interior & ~border_vertices(triangles, result.patch_ids, len(positions))
+        inside = result.interior & ~seam_vertices(len(positions), triangles, result.patch_ids)
         assert (
             np.mean(np.abs(result.defect_after[inside]))
             <= (1.05 if closed else 1.0) * np.mean(np.abs(result.defect_before[inside])) + 1e-15

@@ -163,12 +163,8 @@ PipelineResult& preferred(const MeasuredInput& input, const std::vector<Pipeline
   if (improved.empty()) return *results.front();
   if (improved.size() == 1) return *improved.front();
   std::vector<Contestant> contestants;
-  for (PipelineResult* r : improved) {
-    Contestant c;
-    c.figures = result_figures(*r);
-    c.motion = motion_of(r->positions, input.positions);
-    contestants.push_back(c);
-  }
+  for (PipelineResult* r : improved)
+    contestants.push_back({result_figures(*r), motion_of(r->positions, input.positions)});
   // Each result passed its own run's roughness test: no second one here (a
   // one-patch polish of a noisy input is rougher than a split run's result
   // and far more developable: a generalized cone on an irregular

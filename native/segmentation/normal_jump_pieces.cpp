@@ -82,9 +82,7 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
   std::vector<int> labels(static_cast<size_t>(m));
   for (Eigen::Index f = 0; f < m; ++f) labels[static_cast<size_t>(f)] = sets.find(static_cast<int>(f));
   labels = numbered(std::move(labels));
-  int count = m > 0 ? 1 + *std::max_element(labels.begin(), labels.end()) : 0;
-  std::vector<int> size(static_cast<size_t>(count), 0);
-  for (int l : labels) ++size[static_cast<size_t>(l)];
+  const int count = m > 0 ? 1 + *std::max_element(labels.begin(), labels.end()) : 0;
   // Merge the small pieces, smallest first (the lowest id of equal sizes).
   // A merge reads only the small piece's own faces and border edges, in the
   // order of `edges`, so its sums and choice are those of a scan of them all.
@@ -97,16 +95,17 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
       std::array<int, 3>& slots = edges_of[static_cast<size_t>(f)];
       *std::find(slots.begin(), slots.end(), -1) = static_cast<int>(e);
     }
+  const auto size = [&](int piece) { return static_cast<int>(faces_of[static_cast<size_t>(piece)].size()); };
   using Entry = std::pair<int, int>;  // (size, piece), smallest first
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   for (int p = 0; p < count; ++p)
-    if (size[static_cast<size_t>(p)] < min_faces) queue.emplace(size[static_cast<size_t>(p)], p);
+    if (size(p) < min_faces) queue.emplace(size(p), p);
   std::vector<bool> stuck(static_cast<size_t>(count), false);  // no border it may cross, for good
   std::vector<int> border_edges;
   while (!queue.empty()) {
     const auto [entry_size, smallest] = queue.top();
     queue.pop();
-    if (entry_size != size[static_cast<size_t>(smallest)] || stuck[static_cast<size_t>(smallest)])
+    if (entry_size != size(smallest) || stuck[static_cast<size_t>(smallest)])
       continue;  // merged, grown since, or stuck
     border_edges.clear();
     for (const int f : faces_of[static_cast<size_t>(smallest)])
@@ -151,9 +150,7 @@ std::vector<int> normal_jump_pieces(const Triangles& triangles, const VertexFace
       merged.push_back(f);
     }
     faces_of[static_cast<size_t>(smallest)] = {};
-    size[static_cast<size_t>(into)] += size[static_cast<size_t>(smallest)];
-    size[static_cast<size_t>(smallest)] = 0;
-    if (size[static_cast<size_t>(into)] < min_faces) queue.emplace(size[static_cast<size_t>(into)], into);
+    if (size(into) < min_faces) queue.emplace(size(into), into);
   }
   return numbered(std::move(labels));
 }

@@ -72,7 +72,7 @@ class DefectJacobian {
  public:
   DefectJacobian(const Triangles& triangles, const std::vector<int>& row_of, const std::vector<int>& free_of,
                  Eigen::Index rows, Eigen::Index free_count)
-      : triangles_(triangles), row_of_(row_of), free_of_(free_of) {
+      : triangles_(triangles), row_of_(row_of) {
     // The free vertices of each constrained vertex's closed star, sorted.
     std::vector<std::vector<int>> star(static_cast<size_t>(rows));
     for (Eigen::Index f = 0; f < triangles.rows(); ++f)
@@ -97,6 +97,29 @@ class DefectJacobian {
       for (int u : star[static_cast<size_t>(r)])
         for (int k = 0; k < 3; ++k) jacobian_.insert(r, 3 * u + k) = 0.0;
     jacobian_.makeCompressed();
+    // Where each constrained corner's three gradients go: the offsets of
+    // J(row, 3u) in the row (u the corner's vertex and its two neighbours),
+    // in two bytes, kNotFree for a vertex that does not move. Found once,
+    // they spare evaluate a search per gradient (a tenth of a polish).
+    Eigen::Index longest = 0;
+    for (Eigen::Index r = 0; r < rows; ++r) longest = std::max<Eigen::Index>(longest, sizes[r]);
+    if (longest >= kNotFree)
+      throw EngineError(Status::out_of_memory, "the angle-defect polish: a vertex with " + std::to_string(longest / 3) +
+                                                   " moving vertices around it is beyond its tables (at most 21844)");
+    offsets_.assign(static_cast<size_t>(9 * triangles.rows()), kNotFree);
+    for (Eigen::Index f = 0; f < triangles.rows(); ++f)
+      for (int c = 0; c < 3; ++c) {
+        const int row = row_of[static_cast<size_t>(triangles(f, c))];
+        if (row < 0) continue;
+        const int* begin = jacobian_.innerIndexPtr() + jacobian_.outerIndexPtr()[row];
+        const int* end = jacobian_.innerIndexPtr() + jacobian_.outerIndexPtr()[row + 1];
+        for (int k = 0; k < 3; ++k) {
+          const int u = free_of[static_cast<size_t>(triangles(f, (c + k) % 3))];
+          if (u >= 0)
+            offsets_[static_cast<size_t>(9 * f + 3 * c + k)] =
+                static_cast<uint16_t>(std::lower_bound(begin, end, 3 * u) - begin);
+        }
+      }
   }
 
   const RowMatrix& matrix() const { return jacobian_; }
@@ -121,22 +144,22 @@ class DefectJacobian {
         // K_a = 2 pi - sum theta: dK/dx = -d theta/dx.
         const Eigen::Vector3d grad_b = n.cross(u) / u.squaredNorm();   // -d theta / d b
         const Eigen::Vector3d grad_d = -n.cross(w) / w.squaredNorm();  // -d theta / d d
-        add(row, a, -(grad_b + grad_d));
-        add(row, b, grad_b);
-        add(row, d, grad_d);
+        double* values = jacobian_.valuePtr() + jacobian_.outerIndexPtr()[row];
+        const uint16_t* at = &offsets_[static_cast<size_t>(9 * f + 3 * c)];
+        add(values, at[0], -(grad_b + grad_d));
+        add(values, at[1], grad_b);
+        add(values, at[2], grad_d);
       }
     }
     return residual;
   }
 
  private:
-  void add(int row, int vertex, const Eigen::Vector3d& gradient) {
-    const int u = free_of_[static_cast<size_t>(vertex)];
-    if (u < 0) return;
-    const int* begin = jacobian_.innerIndexPtr() + jacobian_.outerIndexPtr()[row];
-    const int* end = jacobian_.innerIndexPtr() + jacobian_.outerIndexPtr()[row + 1];
-    const int* at = std::lower_bound(begin, end, 3 * u);
-    double* value = jacobian_.valuePtr() + (at - jacobian_.innerIndexPtr());
+  static constexpr uint16_t kNotFree = std::numeric_limits<uint16_t>::max();
+
+  static void add(double* values, uint16_t offset, const Eigen::Vector3d& gradient) {
+    if (offset == kNotFree) return;
+    double* value = values + offset;
     value[0] += gradient[0];
     value[1] += gradient[1];
     value[2] += gradient[2];
@@ -144,8 +167,10 @@ class DefectJacobian {
 
   const Triangles& triangles_;
   const std::vector<int>& row_of_;
-  const std::vector<int>& free_of_;
   RowMatrix jacobian_;
+  // Per face, per corner (constrained: a row), the offsets in that row of
+  // the corner's vertex and of the next two around the face.
+  std::vector<uint16_t> offsets_;
 };
 
 // J J^T of a DefectJacobian, its pattern found once: entry (i, j) is the sum
@@ -154,7 +179,9 @@ class DefectJacobian {
 // 2. That is the order and the arithmetic of Eigen's sparse product J *
 // J.transpose(), so the values are the same bit for bit; assembled from
 // precomputed positions, without the product's transposed copies, sorting
-// and allocations (a sixth of a 50k-face run went to them).
+// and allocations (a sixth of a 50k-face run went to them). Only the upper
+// triangle is summed; the lower is its copy: (j, i) sums the same products
+// (x y is y x in floating point) in the same order.
 class NormalMatrix {
  public:
   explicit NormalMatrix(const RowMatrix& jacobian) {
@@ -219,17 +246,19 @@ class NormalMatrix {
     size_t products = 0;
     for (size_t u = 0; u + 1 < vertex_start_.size(); ++u) {
       const auto count = static_cast<size_t>(vertex_start_[u + 1] - vertex_start_[u]);
-      products += count * count;
+      products += count * (count + 1) / 2;
     }
     offset_.reserve(products);
+    // The rows of a vertex are ascending: b from a on is the upper triangle.
     for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
       for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a)
-        for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b) {
+        for (int b = a; b < vertex_start_[u + 1]; ++b) {
           const int column = row_at_[static_cast<size_t>(b)];
           offset_.push_back(static_cast<uint16_t>(position(row_at_[static_cast<size_t>(a)], column) - outer[column]));
         }
     diagonal_.resize(static_cast<size_t>(rows));
     for (Eigen::Index r = 0; r < rows; ++r) diagonal_[static_cast<size_t>(r)] = position(r, r);
+    below_.resize(static_cast<size_t>(rows));
   }
 
   // J J^T + mu m I at J's values, m the mean of J J^T's diagonal; false
@@ -244,7 +273,7 @@ class NormalMatrix {
     for (size_t u = 0; u + 1 < vertex_start_.size(); ++u)
       for (int a = vertex_start_[u]; a < vertex_start_[u + 1]; ++a) {
         const double* x = j + value_at_[static_cast<size_t>(a)];
-        for (int b = vertex_start_[u]; b < vertex_start_[u + 1]; ++b, ++t) {
+        for (int b = a; b < vertex_start_[u + 1]; ++b, ++t) {
           const double* y = j + value_at_[static_cast<size_t>(b)];
           double& sum = values[outer[row_at_[static_cast<size_t>(b)]] + offset_[t]];
           sum += x[0] * y[0];
@@ -252,6 +281,14 @@ class NormalMatrix {
           sum += x[2] * y[2];
         }
       }
+    // The lower triangle, column by column: column i's entries above its
+    // diagonal (rows r < i) go to (i, r), which column r lists after its
+    // diagonal in ascending i.
+    for (size_t r = 0; r < below_.size(); ++r) below_[r] = diagonal_[r] + 1;
+    const int* inner = matrix_.innerIndexPtr();
+    for (size_t i = 0; i < diagonal_.size(); ++i)
+      for (Eigen::Index k = outer[i]; k < diagonal_[i]; ++k)
+        values[below_[static_cast<size_t>(inner[k])]++] = values[k];
     const double scale = matrix_.diagonal().mean();
     if (!(scale > 0.0) || !std::isfinite(scale)) return false;
     for (const Eigen::Index d : diagonal_) values[d] += mu * scale;
@@ -270,8 +307,9 @@ class NormalMatrix {
   std::vector<int> vertex_start_;  // free vertex -> its first entry in row_at_ / value_at_
   std::vector<int> row_at_;        // the rows holding the vertex, ascending
   std::vector<int> value_at_;      // the position of J(row, 3u) in J's values
-  std::vector<uint16_t> offset_;   // each product's offset in its column (a 1M-row J J^T has about 20M)
+  std::vector<uint16_t> offset_;   // each upper product's offset in its column (a 1M-row J J^T has about 11M)
   std::vector<Eigen::Index> diagonal_;
+  std::vector<Eigen::Index> below_;  // per column, its next entry below the diagonal (assemble)
   Eigen::SparseMatrix<double> matrix_;
 };
 

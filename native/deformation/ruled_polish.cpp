@@ -57,6 +57,10 @@ class RuledPolish {
 
   RuledPolishResult run(const Progress& progress);
 
+  // The objective the steps lower (robust groups and fit) at `p`, with the
+  // axes fitted there.
+  double objective(const Positions& p) const;
+
  private:
   // Per scored vertex (in scored_ order): its faces' tip angles and the axis.
   struct Star {
@@ -271,6 +275,13 @@ void RuledPolish::jacobian(const Positions& p, const std::vector<Star>& stars, c
   }
 }
 
+double RuledPolish::objective(const Positions& p) const {
+  std::vector<Star> stars(scored_.size());
+  measure(p, stars, true);
+  const Eigen::VectorXd r = residual(p, stars, face_normals(p, triangles_), angle_defects(p, triangles_, scored_mask_));
+  return robust_objective(r) + fit_energy(p);
+}
+
 RuledPolishResult RuledPolish::run(const Progress& progress) {
   RuledPolishResult result;
   result.positions = current_;
@@ -390,6 +401,16 @@ RuledPolishResult polish_ruled(const Positions& start, const Positions& referenc
     throw EngineError(Status::internal_error, "polish_ruled: sizes disagree");
   RuledPolish polish(start, reference, reference_normals, triangles, scored, pinned, options);
   return polish.run(progress);
+}
+
+double ruled_polish_objective(const Positions& positions, const Positions& reference, const Triangles& triangles,
+                              const std::vector<bool>& scored, const RuledPolishOptions& options) {
+  const Eigen::Index n = positions.rows();
+  if (reference.rows() != n || static_cast<Eigen::Index>(scored.size()) != n)
+    throw EngineError(Status::internal_error, "ruled_polish_objective: sizes disagree");
+  const Normals unused;  // the guard's normals: no step is taken
+  const RuledPolish polish(positions, reference, unused, triangles, scored, {}, options);
+  return polish.objective(positions);
 }
 
 }  // namespace developable

@@ -34,6 +34,13 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
   const auto within_reach = [&](const Positions& p) {
     return motion_of(p, input.positions).largest <= kFinishReach * choice_motion.largest;
   };
+  // Flat and ruled by the polish's own measure: its objective without the fit.
+  RuledPolishOptions unfitted = options;
+  unfitted.fit_weight = 0.0;
+  const auto spread = [&](const Positions& p) {
+    return ruled_polish_objective(p, input.positions, input.triangles, run.scored, unfitted);
+  };
+  if (!ruled_finish_can_gain(spread(choice.positions), spread(input.positions))) return;
   Positions positions = choice.positions;
   int iterations = 0;
   const double rounds = static_cast<double>(std::size(kFitWeights)) + 1.0;  // and the exact polish

@@ -16,7 +16,8 @@ namespace developable {
 
 // Finishes `choice` of a sheet's run flat and ruled and keeps the result
 // when admissible and ruled_finish_kept (ResultOrigin::ruled_finish); else
-// leaves `choice` as it is. `choice.measured` must carry its flat-and-ruled
+// leaves `choice` as it is, without a round where it cannot gain
+// (ruled_finish_can_gain). `choice.measured` must carry its flat-and-ruled
 // share (Judge::measure_rulings). The caller decides whether it is worth it
 // (worth_ruled_finish): the plan, on its chosen result of a sheet
 // (finish_plan_result in patch_alternative.h). Throws

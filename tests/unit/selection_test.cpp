@@ -164,6 +164,14 @@ TEST(Selection, TheRuledFinishIsWorthItBeyondOnePointCrumpled) {
   EXPECT_TRUE(worth_ruled_finish(choice));
 }
 
+// It can gain only where the ruled polish's measure of flat and ruled is
+// lower at the choice than at the input.
+TEST(Selection, TheRuledFinishCanGainWhereTheChoiceMeasuresBetterThanTheInput) {
+  EXPECT_TRUE(ruled_finish_can_gain(0.1, 0.3));
+  EXPECT_FALSE(ruled_finish_can_gain(0.39, 0.27));
+  EXPECT_FALSE(ruled_finish_can_gain(0.3, 0.3));
+}
+
 // Kept: more than one point more flat and ruled, gained by more than the
 // flat share fell, the largest |defect| within 5 % of the choice's and the
 // input's larger, no vertex farther than kFinishReach (1.25) times the

@@ -71,15 +71,23 @@ TEST(RuledPolish, MakesVerticesFlatAndRuledNotCrumpled) {
       r.positions);
 }
 
+// A cylinder patch (radius 1) with noise at 15 % of its edge length.
+struct NoisyBand {
+  test::Mesh band = test::grid(
+      24, 36, false, [](double u, double v) { return Eigen::Vector3d(std::cos(2.0 * v), std::sin(2.0 * v), 1.5 * u); });
+  Positions clean = band.positions;
+  double edge = average_edge_length(clean, band.triangles);
+  NoisyBand() { test::add_noise(band.positions, 0.15 * edge, 7); }
+};
+
 // The fit to the reference: a cylinder patch with noise at 15 % of its edge
 // length polished flat and ruled ends 0.53 of the input's RMS distance from
 // the cylinder without the fit, 0.36 with it.
 TEST(RuledPolish, TheFitHoldsANoisySheetNearItsShape) {
-  test::Mesh band = test::grid(
-      24, 36, false, [](double u, double v) { return Eigen::Vector3d(std::cos(2.0 * v), std::sin(2.0 * v), 1.5 * u); });
-  const Positions clean = band.positions;
-  const double edge = average_edge_length(clean, band.triangles);
-  test::add_noise(band.positions, 0.15 * edge, 7);
+  const NoisyBand sheet;
+  const test::Mesh& band = sheet.band;
+  const Positions& clean = sheet.clean;
+  const double edge = sheet.edge;
   const Normals normals = face_normals(band.positions, band.triangles);
   const std::vector<bool> interior = interior_vertices(band.positions, band.triangles);
   const VertexFaces table = vertex_faces(band.triangles, band.positions.rows());
@@ -115,11 +123,10 @@ TEST(RuledPolish, TheFitHoldsANoisySheetNearItsShape) {
 // more with noise, lower after the polish, and the fit's sum of squares on
 // top where the positions left the reference.
 TEST(RuledPolish, ItsObjectiveMeasuresWhatTheStepsLower) {
-  test::Mesh band = test::grid(
-      24, 36, false, [](double u, double v) { return Eigen::Vector3d(std::cos(2.0 * v), std::sin(2.0 * v), 1.5 * u); });
-  const Positions clean = band.positions;
-  const double edge = average_edge_length(clean, band.triangles);
-  test::add_noise(band.positions, 0.15 * edge, 7);
+  const NoisyBand sheet;
+  const test::Mesh& band = sheet.band;
+  const Positions& clean = sheet.clean;
+  const double edge = sheet.edge;
   const std::vector<bool> interior = interior_vertices(band.positions, band.triangles);
   RuledPolishOptions options;
   const auto objective = [&](const Positions& p, const Positions& reference) {

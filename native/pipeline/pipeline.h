@@ -10,6 +10,7 @@
 //                                 one admissibility rule (selection.h)
 //   finish_plan_result            a sheet's chosen result finished flat and
 //     (patch_alternative.h)       ruled (ruled_finish.h), when it is crumpled
+//                                 and can gain
 //
 // docs/architecture.md draws the stages; docs/method.md says where and why
 // they depart from the paper.

@@ -89,8 +89,8 @@ RuledPolishResult polish_ruled(const Positions& start, const Positions& referenc
 // The objective polish_ruled lowers, at `positions`: the robust sum over the
 // scored vertices' groups (axes fitted at `positions`) plus the fit rows'
 // sum of squares against `reference` (dimensionless). Arguments as
-// polish_ruled's (the crease guard and the limit play no part); throws EngineError(internal_error) when the sizes
-// disagree.
+// polish_ruled's (the crease guard and the limit play no part). Throws
+// EngineError(internal_error) when the sizes disagree.
 double ruled_polish_objective(const Positions& positions, const Positions& reference, const Triangles& triangles,
                               const std::vector<bool>& scored, const RuledPolishOptions& options);
 

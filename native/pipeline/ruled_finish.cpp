@@ -37,10 +37,10 @@ void finish_ruled(const PatchRun& run, Judge& judge, Choice& choice, const Progr
   // Flat and ruled by the polish's own measure: its objective without the fit.
   RuledPolishOptions unfitted = options;
   unfitted.fit_weight = 0.0;
-  const auto spread = [&](const Positions& p) {
+  const auto objective = [&](const Positions& p) {
     return ruled_polish_objective(p, input.positions, input.triangles, run.scored, unfitted);
   };
-  if (!ruled_finish_can_gain(spread(choice.positions), spread(input.positions))) return;
+  if (!ruled_finish_can_gain(objective(choice.positions), objective(input.positions))) return;
   Positions positions = choice.positions;
   int iterations = 0;
   const double rounds = static_cast<double>(std::size(kFitWeights)) + 1.0;  // and the exact polish

@@ -42,7 +42,9 @@ bool more_developable(const Figures& a, const Figures& b, bool object) {
 
 bool worth_ruled_finish(const Figures& choice) { return choice.crumpled() > kFlatSlack; }
 
-bool ruled_finish_can_gain(double choice_spread, double input_spread) { return choice_spread < input_spread; }
+bool ruled_finish_can_gain(double choice_objective, double input_objective) {
+  return choice_objective < input_objective;
+}
 
 bool ruled_finish_kept(const Figures& finished, const Motion& finished_motion, const Figures& choice,
                        const Motion& choice_motion, const Figures& input) {

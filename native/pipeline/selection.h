@@ -183,7 +183,7 @@ bool worth_ruled_finish(const Figures& choice);
 // 97 %, not kept). Of 150 finishes kept on seeds 0-3 and 100-104 the
 // input's measure was at least 2.2 times the choice's (docs/method.md, "The
 // ruled finish").
-bool ruled_finish_can_gain(double choice_spread, double input_spread);
+bool ruled_finish_can_gain(double choice_objective, double input_objective);
 
 // Whether the ruled finish is kept over the choice it started from: more
 // than kFlatSlack more flat-and-ruled vertices, gained by more than the flat

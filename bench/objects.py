@@ -7,7 +7,8 @@ devkit/objects.py's seeded random closed objects (blobs, rounded boxes, tori, li
 
 Per kind, over the seeds: the runs that came back improved (the others are returned
 unchanged, with the reason the tool prints), the flat share (interior vertices with
-|defect| < 1e-3 rad) before -> after (median over the improved runs), the mean |defect|
+|defect| < 1e-3 rad) and the flat and ruled share (flat, and their faces' normals on one great
+circle: not crumpled) before -> after (median over the improved runs), the mean |defect|
 change (median and largest over the improved runs: a closed surface keeps its total
 curvature, so it may grow up to 5 %, said), the Hausdorff distance to the input in % of the
 bounding box diagonal (largest), faces turned over (> 90 degrees from the input's normal,
@@ -50,6 +51,8 @@ def measure(job):
         "patches": stats["patches"],
         "flat_before": stats["flat_share_before"],
         "flat_after": stats["flat_share_after"],
+        "ruled_before": stats["ruled_share_before"],
+        "ruled_after": stats["ruled_share_after"],
         "change": stats["change_percent"],
         "hausdorff": sampled_hausdorff(after, m.triangles, m.positions, m.triangles) / bbox_diagonal(m.positions),
         "turned": int(turned.sum()),
@@ -61,22 +64,25 @@ def table(results, title):
     lines = [
         "**%s**" % title,
         "",
-        "| kind | improved | flat before → after (median) | mean \\|defect\\| % (median, largest) "
-        "| Hausdorff % diag (largest) | turned | folded edges | seconds (median, largest) |",
-        "|---|---|---|---|---|---|---|---|",
+        "| kind | improved | flat before → after (median) | flat and ruled before → after (median) "
+        "| mean \\|defect\\| % (median, largest) | Hausdorff % diag (largest) | turned | folded edges "
+        "| seconds (median, largest) |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for kind in objects.KINDS:
         runs = [r for r in results if r["kind"] == kind and "error" not in r]
         better = [r for r in runs if r["improved"]] or runs
         med = lambda key: float(np.median([r[key] for r in better]))  # noqa: E731
         lines.append(
-            "| %s | %d/%d | %.0f → %.0f %% | %+.1f (%+.1f) | %.2f | %d | %d | %.1f (%.1f) |"
+            "| %s | %d/%d | %.0f → %.0f %% | %.0f → %.0f %% | %+.1f (%+.1f) | %.2f | %d | %d | %.1f (%.1f) |"
             % (
                 kind,
                 sum(r["improved"] for r in runs),
                 len(runs),
                 100 * med("flat_before"),
                 100 * med("flat_after"),
+                100 * med("ruled_before"),
+                100 * med("ruled_after"),
                 med("change"),
                 max(r["change"] for r in better),
                 100 * max(r["hausdorff"] for r in runs),

@@ -8,7 +8,10 @@ devkit/objects.py's seeded random closed objects (blobs, rounded boxes, tori, li
 Per kind, over the seeds: the runs that came back improved (the others are returned
 unchanged, with the reason the tool prints), the flat share (interior vertices with
 |defect| < 1e-3 rad) and the flat and ruled share (flat, and their faces' normals on one great
-circle: not crumpled) before -> after (median over the improved runs), the mean |defect|
+circle: not crumpled) before -> after (median over the improved runs), the flat and ruled share
+inside the pieces the tool reports (off their seams: issue 35's measure; median and lowest over
+the improved runs) and the share of the interior vertices off the seams (median), the pieces
+(median, largest), the mean |defect|
 change (median and largest over the improved runs: a closed surface keeps its total
 curvature, so it may grow up to 5 %, said), the Hausdorff distance to the input in % of the
 bounding box diagonal (largest), faces turned over (> 90 degrees from the input's normal,
@@ -28,18 +31,21 @@ REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from devkit import objects
 from devkit.distance import bbox_diagonal, sampled_hausdorff
-from devkit.measures import face_normals, sharpened_edges
-from devkit.tool import run_tool
+from devkit.measures import developability_figures, face_normals, seam_vertices, sharpened_edges
+from devkit.tool import run_tool_report
 
 
 def measure(job):
     tool, kind, seed = job
     m = objects.random_case(kind, seed)
     with tempfile.TemporaryDirectory() as work:
-        run = run_tool(tool, pathlib.Path(work), m.positions, m.triangles)
+        run = run_tool_report(tool, pathlib.Path(work), m.positions, m.triangles)
     if isinstance(run, str):
         return {"kind": kind, "seed": seed, "error": run}
-    after, stats, seconds = run
+    after, report, seconds = run
+    stats = report["stats"]
+    off_seams = ~seam_vertices(len(after), m.triangles, np.asarray(report["patch_ids"]))
+    inside = developability_figures(after, m.triangles, interior=off_seams)
     turned = np.einsum("ij,ij->i", face_normals(m.positions, m.triangles), face_normals(after, m.triangles)) < 0
     return {
         "kind": kind,
@@ -53,6 +59,8 @@ def measure(job):
         "flat_after": stats["flat_share_after"],
         "ruled_before": stats["ruled_share_before"],
         "ruled_after": stats["ruled_share_after"],
+        "ruled_inside": inside["flat_and_ruled"],
+        "off_seams": inside["vertices"] / stats["interior_vertices"],
         "change": stats["change_percent"],
         "hausdorff": sampled_hausdorff(after, m.triangles, m.positions, m.triangles) / bbox_diagonal(m.positions),
         "turned": int(turned.sum()),
@@ -65,16 +73,18 @@ def table(results, title):
         "**%s**" % title,
         "",
         "| kind | improved | flat before → after (median) | flat and ruled before → after (median) "
+        "| flat and ruled inside the pieces (median, lowest) | off the seams | pieces (median, largest) "
         "| mean \\|defect\\| % (median, largest) | Hausdorff % diag (largest) | turned | folded edges "
         "| seconds (median, largest) |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for kind in objects.KINDS:
         runs = [r for r in results if r["kind"] == kind and "error" not in r]
         better = [r for r in runs if r["improved"]] or runs
         med = lambda key: float(np.median([r[key] for r in better]))  # noqa: E731
         lines.append(
-            "| %s | %d/%d | %.0f → %.0f %% | %.0f → %.0f %% | %+.1f (%+.1f) | %.2f | %d | %d | %.1f (%.1f) |"
+            "| %s | %d/%d | %.0f → %.0f %% | %.0f → %.0f %% | %.0f %% (%.0f) | %.0f %% | %.0f (%d) "
+            "| %+.1f (%+.1f) | %.2f | %d | %d | %.1f (%.1f) |"
             % (
                 kind,
                 sum(r["improved"] for r in runs),
@@ -83,6 +93,11 @@ def table(results, title):
                 100 * med("flat_after"),
                 100 * med("ruled_before"),
                 100 * med("ruled_after"),
+                100 * med("ruled_inside"),
+                100 * min(r["ruled_inside"] for r in better),
+                100 * med("off_seams"),
+                med("patches"),
+                max(r["patches"] for r in better),
                 med("change"),
                 max(r["change"] for r in better),
                 100 * max(r["hausdorff"] for r in runs),

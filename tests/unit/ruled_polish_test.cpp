@@ -86,7 +86,6 @@ struct NoisyBand {
 TEST(RuledPolish, TheFitHoldsANoisySheetNearItsShape) {
   const NoisyBand sheet;
   const test::Mesh& band = sheet.band;
-  const Positions& clean = sheet.clean;
   const double edge = sheet.edge;
   const Normals normals = face_normals(band.positions, band.triangles);
   const std::vector<bool> interior = interior_vertices(band.positions, band.triangles);

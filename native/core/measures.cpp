@@ -354,7 +354,7 @@ VertexShares vertex_shares(const Eigen::VectorXd& defects, const Eigen::VectorXd
     ++count;
     if (!(std::abs(defects[v]) < kFlatDefect)) continue;
     ++flat;
-    if (spreads[v] < kRuledSpread) ++ruled;
+    if (flat_and_ruled(defects[v], spreads[v])) ++ruled;
   }
   if (count == 0) return {};
   const double total = static_cast<double>(count);

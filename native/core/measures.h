@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -158,6 +159,12 @@ double normal_roughness(const Normals& normals, const Triangles& triangles, cons
 //   same triangles; interior: interior_vertices.
 Eigen::VectorXd ruling_spreads(const Positions& positions, const Triangles& triangles, const Normals& normals,
                                const VertexFaces& connectivity, const std::vector<bool>& interior);
+
+// Whether a vertex of angle defect `defect` (rad) and ruling spread `spread`
+// (ruling_spreads) is flat and ruled: developable, not crumpled.
+inline bool flat_and_ruled(double defect, double spread) {
+  return std::abs(defect) < kFlatDefect && spread < kRuledSpread;
+}
 
 // The developability a user sees, as shares (0..1) of the interior vertices:
 // flat (|defect| < kFlatDefect), flat and ruled (spread < kRuledSpread too)

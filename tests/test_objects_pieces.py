@@ -15,7 +15,7 @@ import pytest
 from devkit import objects
 from devkit.binding import native
 from devkit.distance import bbox_diagonal, sampled_hausdorff
-from devkit.measures import developability_figures, turned_faces
+from devkit.measures import developability_figures, seam_vertices, turned_faces
 from devkit.obj import read_obj
 from result_support import check_honest
 
@@ -103,3 +103,26 @@ def test_open_objects_come_back_flat_and_ruled(kind, seed):
     assert sampled_hausdorff(r.positions, m.triangles, m.positions, m.triangles) <= 0.01 * bbox_diagonal(
         m.positions
     ) * (1 + 1e-6)
+
+
+# Inside the pieces (interior vertices off every seam: issue 35's measure). A piece still curved
+# inside after the ruled polish is split in two and settled again (thinned_pieces.h, stage 5;
+# docs/segmentation.md, "Pieces still curved inside"; chosen on seeds 0-9, these not tuned on).
+# Measured 2026-12-07 on an AMD EPYC, before -> after the split: blob 103 66.9 -> 71.4 %, blob 104
+# 74.0 -> 79.2, rounded box 101 62.5 -> 78.6, rounded box 109 75.4 -> 80.8, limb 104 67.2 -> 75.2
+# (median 67.2 -> 78.6 %), in 9-22 pieces.
+INSIDE_CASES = [("blob", 103), ("blob", 104), ("rounded_box", 101), ("rounded_box", 109), ("limb", 104)]
+
+
+def test_pieces_are_flat_and_ruled_inside():
+    shares = []
+    for kind, seed in INSIDE_CASES:
+        m = objects.random_case(kind, seed)
+        r = native.run(m.positions, m.triangles)
+        check_honest(m.positions, m.triangles, r)
+        off_seams = ~seam_vertices(len(m.positions), m.triangles, np.asarray(r.patch_ids))
+        inside = developability_figures(r.positions, m.triangles, interior=off_seams)
+        shares.append(inside["flat_and_ruled"])
+        assert inside["flat_and_ruled"] >= 0.68, (kind, seed, inside)
+        assert r.stats["patches"] <= 40, (kind, seed, r.stats["patches"])
+    assert np.median(shares) >= 0.75, shares

@@ -6,6 +6,7 @@
 #include "deformation/ruled_polish.h"
 #include "ideal_curve/gauss_thinning.h"
 #include "pipeline/patches.h"
+#include "segmentation/curved_pieces.h"
 #include "segmentation/normal_jump_pieces.h"
 
 #include <Eigen/Geometry>
@@ -114,6 +115,52 @@ void thin(const MeasuredInput& input, NormalGuidedDeformation& deformation, cons
   }
 }
 
+// The interior vertices off every seam of `pieces`, not pinned: the ones the
+// ruled polish makes flat and ruled.
+std::vector<bool> inside_vertices(const MeasuredInput& input, const std::vector<int>& pieces) {
+  const std::vector<bool> border = patch_border_vertices(input.triangles, pieces, input.positions.rows());
+  std::vector<bool> inside = input.measured.interior;
+  for (size_t v = 0; v < inside.size(); ++v) inside[v] = inside[v] && !border[v] && !input.pinned[v];
+  return inside;
+}
+
+// Stages 3 and 4 on `pieces` from `positions`: corners of faces creased inside
+// a piece put back, thinning inside the pieces with `deformation`, then the
+// ruled polish. Returns the polish's steps kept.
+int settle_pieces(const MeasuredInput& input, NormalGuidedDeformation& deformation, const std::vector<int>& pieces,
+                  Positions& positions, const Progress& progress) {
+  const CreaseGuard crease(input.triangles, input.normals, pieces, kSegmentedCreaseGrowth);
+  const StepGuard guard(input, crease);
+  guard.heal(positions);
+  thin(input, deformation, guard, pieces, kPieceThinningIterations, positions, progress.sub(0.0, 0.45));
+  deformation.release();  // its share of the factor is of no use to the ruled polish, which needs the memory
+
+  RuledPolishOptions ruled;
+  ruled.max_iterations = kThinnedPolishIterations;
+  ruled.robust = kThinnedPolishRobust;
+  ruled.limit = input.limit;
+  ruled.spare_cores = input.spare_cores;
+  ruled.crease_guard = crease;
+  const RuledPolishResult polished =
+      polish_ruled(positions, input.positions, input.normals, input.triangles, inside_vertices(input, pieces),
+                   input.pinned, ruled, progress.sub(0.45, 1.0));
+  positions = polished.positions;
+  return polished.iterations;
+}
+
+// Per vertex: inside a piece, flat and ruled at `positions`.
+std::vector<bool> developable_inside(const MeasuredInput& input, const Positions& positions,
+                                     const std::vector<bool>& inside) {
+  const Normals normals = face_normals(positions, input.triangles);
+  const Eigen::VectorXd defects = angle_defects(positions, input.triangles, inside);
+  const Eigen::VectorXd spreads = ruling_spreads(positions, input.triangles, normals, input.connectivity, inside);
+  std::vector<bool> developable(inside.size(), false);
+  for (size_t v = 0; v < inside.size(); ++v)
+    developable[v] =
+        inside[v] && flat_and_ruled(defects[static_cast<Eigen::Index>(v)], spreads[static_cast<Eigen::Index>(v)]);
+  return developable;
+}
+
 }  // namespace
 
 NormalGuidedDeformation thinning_deformation(const MeasuredInput& input) {
@@ -150,25 +197,19 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   }
   out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
 
-  const CreaseGuard piece_crease(input.triangles, input.normals, out.pieces, kSegmentedCreaseGrowth);
-  const StepGuard piece_guard(input, piece_crease);
-  piece_guard.heal(out.positions);
-  thin(input, deformation, piece_guard, out.pieces, kPieceThinningIterations, out.positions, progress.sub(0.05, 0.5));
-  deformation.release();  // its share of the factor is of no use to the ruled polish, which needs the memory
+  out.polish_iterations = settle_pieces(input, deformation, out.pieces, out.positions, progress.sub(0.05, 0.6));
 
-  const std::vector<bool> border = patch_border_vertices(input.triangles, out.pieces, input.positions.rows());
-  std::vector<bool> inside = input.measured.interior;
-  for (size_t v = 0; v < inside.size(); ++v) inside[v] = inside[v] && !border[v] && !input.pinned[v];
-  RuledPolishOptions ruled;
-  ruled.max_iterations = kThinnedPolishIterations;
-  ruled.robust = kThinnedPolishRobust;
-  ruled.limit = input.limit;
-  ruled.spare_cores = input.spare_cores;
-  ruled.crease_guard = piece_crease;
-  const RuledPolishResult polished = polish_ruled(out.positions, input.positions, input.normals, input.triangles,
-                                                  inside, input.pinned, ruled, progress.sub(0.5, 1.0));
-  out.positions = polished.positions;
-  out.polish_iterations = polished.iterations;
+  // Stage 5: the pieces still curved inside, split in two and settled again
+  // from where the polish left them, with a thinning factored anew.
+  const std::vector<bool> inside = inside_vertices(input, out.pieces);
+  const std::vector<bool> curved =
+      curved_pieces(out.pieces, out.count, input.connectivity, inside, developable_inside(input, out.positions, inside),
+                    kCurvedPieceShare, kCurvedPieceInside);
+  if (std::find(curved.begin(), curved.end(), true) == curved.end()) return out;
+  out.pieces = split_in_two(out.positions, input.triangles, out.pieces, out.count, curved, progress.sub(0.6, 0.62));
+  out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
+  NormalGuidedDeformation again = thinning_deformation(input);
+  out.polish_iterations += settle_pieces(input, again, out.pieces, out.positions, progress.sub(0.62, 1.0));
   return out;
 }
 

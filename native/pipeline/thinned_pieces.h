@@ -26,6 +26,11 @@
 //      zigzags again: spot 32.7 % flat, 15.1 % flat and ruled, 17.6 %
 //      crumpled; held by a guard on the ruling spread it hardly moves: 22.9 %
 //      flat and ruled against 22.7 % before it.)
+//   5. the pieces still curved inside (under kCurvedPieceShare of their
+//      inside vertices flat and ruled, at least kCurvedPieceInside of them)
+//      split in two where their normals fit two cones
+//      (segmentation/curved_pieces.h), and stages 3-4 again on the new pieces
+//      from where the polish left them, once.
 // Every step keeps no face turned over or collapsed. Each candidate
 // competes under the one rule (selection.h) through run_thinned_alternative
 // (patch_alternative.h); docs/segmentation.md, "Thinned pieces", has the
@@ -69,6 +74,14 @@ inline constexpr int kThinnedPolishIterations = 60;
 // (docs/segmentation.md, "The ruled polish's give-up scale").
 inline constexpr double kThinnedPolishRobust = 0.003;
 
+// Stage 5: a piece with at least kCurvedPieceInside inside vertices, fewer
+// than kCurvedPieceShare of them flat and ruled after the polish, is split in
+// two. Chosen on the objects of seeds 0-9 (devkit/objects.py) and held out on
+// seeds 100-119 and the shared meshes (docs/segmentation.md, "Pieces still
+// curved inside").
+inline constexpr double kCurvedPieceShare = 0.9;
+inline constexpr int kCurvedPieceInside = 20;
+
 // Where the pieces come from.
 enum class PieceSource {
   creases,       // normal_jump_pieces of the thinned normals (kPieceCrease)
@@ -99,9 +112,9 @@ NormalGuidedDeformation thinning_deformation(const MeasuredInput& input);
 // through `progress`, EngineError(numerical_failure) when a solve fails.
 Positions thin_whole(const MeasuredInput& input, NormalGuidedDeformation& deformation, const Progress& progress);
 
-// Stages 2-4 from `thinned` (thin_whole's) with the pieces of `source`,
+// Stages 2-5 from `thinned` (thin_whole's) with the pieces of `source`,
 // stage 3 with `deformation` (thin_whole's or one sharing its factor),
-// released before stage 4. With no move limit (input.limit <= 0) it returns
+// released before stage 4 (stage 5 factors a thinning of its own). With no move limit (input.limit <= 0) it returns
 // `thinned` as one piece. Throws as thin_whole.
 ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinned, PieceSource source,
                              NormalGuidedDeformation deformation, const Progress& progress);

@@ -482,7 +482,7 @@ class DEVELOPABLE_PG_result(PropertyGroup):
         default="IMPROVED",
         items=[
             ("IMPROVED", "Improved", "The mesh is more developable and no figure got worse"),
-            ("GATHERED", "Improved, curvature on seams", "More vertices are flat; the curvature left gathered"),
+            ("GATHERED", "Curvature on seams", "More vertices are flat; the curvature left gathered"),
             ("CRUMPLED", "Flat, but crumpled", "Flat, but many flat vertices are facets, not one smooth bend"),
             ("WORSE", "Worse", "A figure got worse: the key is left at 0"),
             ("UNCHANGED", "Unchanged", "Nothing changed: nothing better was found"),

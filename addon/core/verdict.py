@@ -32,7 +32,7 @@ CRUMPLED_SHARE = 0.1
 KINDS = ("IMPROVED", "GATHERED", "CRUMPLED", "WORSE", "UNCHANGED", "DEVELOPABLE")
 TITLES = {
     "IMPROVED": "Improved",
-    "GATHERED": "Improved, curvature on seams",
+    "GATHERED": "Curvature on seams",
     "CRUMPLED": "Flat, but crumpled",
     "WORSE": "A figure got worse",
     "UNCHANGED": "Nothing changed",

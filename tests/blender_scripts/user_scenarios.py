@@ -204,7 +204,11 @@ def s_worse():
     clear()
     # A closed torus: its total curvature is 0 but cannot leave it
     # (Gauss-Bonnet). Every other ring turned: aligned, it would be a stack of
-    # cone frusta, developable piecewise, which the engine says.
+    # cone frusta, developable piecewise, which the engine says. Within 0.1 %
+    # of its size nothing better is found (at the default 1 % its thinned
+    # pieces, split where still curved inside, gather its curvature on their
+    # seams: 12.5 -> 52 % of its vertices flat and ruled).
+    bpy.context.scene.developable.move_limit = 0.1
     ob = make_object("torus", *meshes.ring_torus_quads(48, 16, 0.35, stagger=1.0))
     res, err = run()
     kb = ob.data.shape_keys.key_blocks.get("Developable") if ob.data.shape_keys else None

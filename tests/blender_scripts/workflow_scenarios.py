@@ -495,8 +495,11 @@ def _panel_states():
     ob.developable_pattern.mean_strain = 1.1e-08
     yield "improved", ob
     u.clear()
+    # Nothing better within 0.1 % of its size (user_scenarios.s_worse).
+    bpy.context.scene.developable.move_limit = 0.1
     ob = make("torus_with_a_long_name", *u.meshes.ring_torus_quads(48, 16, 0.35, stagger=1.0))
     run()
+    bpy.context.scene.developable.move_limit = 1.0
     yield "unchanged", ob
     ob = _plate_with_modifiers()
     yield "modifiers", ob

@@ -1,6 +1,7 @@
 #include "deformation/defect_polish.h"
 
 #include "core/measures.h"
+#include "core/submesh.h"
 #include "deformation/conjugate_gradients.h"
 #include "deformation/move_limit.h"
 
@@ -754,47 +755,30 @@ PolishResult polish_defects(const Positions& start, const Positions& reference, 
   // The submesh of those faces. Its vertices keep their order (and its faces
   // theirs), so every angle sum, the system and its solution are the ones the
   // whole mesh would give, bit for bit.
-  std::vector<int> local_of(static_cast<size_t>(n), -1);
-  for (Eigen::Index f : faces)
-    for (int c = 0; c < 3; ++c) local_of[static_cast<size_t>(triangles(f, c))] = 0;
-  std::vector<Eigen::Index> global_of;
-  for (Eigen::Index v = 0; v < n; ++v)
-    if (local_of[static_cast<size_t>(v)] == 0) {
-      local_of[static_cast<size_t>(v)] = static_cast<int>(global_of.size());
-      global_of.push_back(v);
-    }
-  const auto m = static_cast<Eigen::Index>(global_of.size());
-  const auto face_count = static_cast<Eigen::Index>(faces.size());
-  Positions local_start(m, 3), local_reference(m, 3);
+  const Submesh local = submesh(triangles, n, std::move(faces));
+  const Eigen::Index m = local.vertex_count();
   Eigen::VectorXd local_defects(m);
   Region local_region{std::vector<bool>(static_cast<size_t>(m)), std::vector<bool>(static_cast<size_t>(m)),
                       std::vector<bool>(static_cast<size_t>(m))};
   for (Eigen::Index i = 0; i < m; ++i) {
-    const Eigen::Index v = global_of[static_cast<size_t>(i)];
-    local_start.row(i) = start.row(v);
-    local_reference.row(i) = reference.row(v);
-    local_defects[i] = defects[v];
-    local_region.moves[static_cast<size_t>(i)] = region.moves[static_cast<size_t>(v)];
-    local_region.reachable[static_cast<size_t>(i)] = region.reachable[static_cast<size_t>(v)];
-    local_region.rows[static_cast<size_t>(i)] = region.rows[static_cast<size_t>(v)];
-  }
-  Triangles local_triangles(face_count, 3);
-  Normals local_normals(face_count, 3);
-  for (Eigen::Index i = 0; i < face_count; ++i) {
-    const Eigen::Index f = faces[static_cast<size_t>(i)];
-    for (int c = 0; c < 3; ++c) local_triangles(i, c) = local_of[static_cast<size_t>(triangles(f, c))];
-    local_normals.row(i) = reference_normals.row(f);
+    const auto v = static_cast<size_t>(local.vertices[static_cast<size_t>(i)]);
+    local_defects[i] = defects[static_cast<Eigen::Index>(v)];
+    local_region.moves[static_cast<size_t>(i)] = region.moves[v];
+    local_region.reachable[static_cast<size_t>(i)] = region.reachable[v];
+    local_region.rows[static_cast<size_t>(i)] = region.rows[v];
   }
   PolishOptions local_options = options;
-  local_options.crease_guard = options.crease_guard.restricted(faces, triangles.rows());
+  local_options.crease_guard = options.crease_guard.restricted(local.faces, triangles.rows());
   // The vertices outside the submesh keep their moves, which count in the RMS.
   if (give_up.active())
     for (Eigen::Index v = 0; v < n; ++v)
-      if (local_of[static_cast<size_t>(v)] < 0) give_up.outside2 += (start.row(v) - reference.row(v)).squaredNorm();
-  PolishResult result = polish_region(local_start, local_reference, local_normals, local_triangles, local_region,
-                                      std::move(local_defects), local_options, give_up, progress);
+      if (local.local_of[static_cast<size_t>(v)] < 0)
+        give_up.outside2 += (start.row(v) - reference.row(v)).squaredNorm();
+  PolishResult result =
+      polish_region(local.vertex_rows(start), local.vertex_rows(reference), local.face_rows(reference_normals),
+                    local.triangles, local_region, std::move(local_defects), local_options, give_up, progress);
   Positions positions = start;
-  for (Eigen::Index i = 0; i < m; ++i) positions.row(global_of[static_cast<size_t>(i)]) = result.positions.row(i);
+  local.scatter(result.positions, positions);
   result.positions = std::move(positions);
   return result;
 }

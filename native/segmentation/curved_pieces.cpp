@@ -1,43 +1,11 @@
 #include "segmentation/curved_pieces.h"
 
+#include "core/submesh.h"
 #include "segmentation/segmentation.h"
 
 #include <algorithm>
 
 namespace developable {
-namespace {
-
-// The faces of one piece as a mesh of their own; faces[i] is its face i.
-struct PieceMesh {
-  std::vector<int> faces;
-  Positions positions;
-  Triangles triangles;
-};
-
-PieceMesh piece_mesh(const Positions& positions, const Triangles& triangles, const std::vector<int>& pieces,
-                     int piece) {
-  PieceMesh out;
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f)
-    if (pieces[static_cast<size_t>(f)] == piece) out.faces.push_back(static_cast<int>(f));
-  std::vector<int> local(static_cast<size_t>(positions.rows()), -1);
-  std::vector<int> global;
-  out.triangles.resize(static_cast<Eigen::Index>(out.faces.size()), 3);
-  for (size_t i = 0; i < out.faces.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      int& v = local[static_cast<size_t>(triangles(out.faces[i], c))];
-      if (v < 0) {
-        v = static_cast<int>(global.size());
-        global.push_back(triangles(out.faces[i], c));
-      }
-      out.triangles(static_cast<Eigen::Index>(i), c) = v;
-    }
-  out.positions.resize(static_cast<Eigen::Index>(global.size()), 3);
-  for (size_t v = 0; v < global.size(); ++v) out.positions.row(static_cast<Eigen::Index>(v)) = positions.row(global[v]);
-  return out;
-}
-
-}  // namespace
-
 std::vector<bool> curved_pieces(const std::vector<int>& pieces, int count, const VertexFaces& connectivity,
                                 const std::vector<bool>& inside, const std::vector<bool>& developable, double share,
                                 int min_inside) {
@@ -59,11 +27,13 @@ std::vector<int> split_in_two(const Positions& positions, const Triangles& trian
   int next = count;
   SegmentationOptions two;
   two.target_patches = 2;
+  std::vector<std::vector<Eigen::Index>> faces = faces_of_pieces(pieces, count);
   for (int piece = 0; piece < count; ++piece) {
     if (!split[static_cast<size_t>(piece)]) continue;
     progress.report(static_cast<double>(piece) / count, "splitting curved pieces");
-    const PieceMesh mesh = piece_mesh(positions, triangles, pieces, piece);
-    const std::vector<int> parts = segment_mesh(mesh.positions, mesh.triangles, two, progress.sub(0.0, 0.0));
+    const Submesh mesh = submesh(triangles, positions.rows(), std::move(faces[static_cast<size_t>(piece)]));
+    const std::vector<int> parts =
+        segment_mesh(mesh.vertex_rows(positions), mesh.triangles, two, progress.sub(0.0, 0.0));
     // segment_mesh numbers its patches in the order of their first faces:
     // part 0 holds the piece's lowest face. More than two parts only where
     // the piece is in more than one component of its own.

@@ -69,6 +69,16 @@ class RuledPolish {
     Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
   };
 
+  // What a step starts from at `p`: the stars with their axes fitted there,
+  // the face normals, the angle defects and the residual groups.
+  struct State {
+    std::vector<Star> stars;
+    Normals normals;
+    Eigen::VectorXd defects;
+    Eigen::VectorXd r;
+  };
+  State state_at(const Positions& p) const;
+
   void measure(const Positions& p, std::vector<Star>& stars, bool refit) const;
   // The residual groups at `p` with the axes of `stars` (their tips refreshed).
   Eigen::VectorXd residual(const Positions& p, std::vector<Star>& stars, const Normals& normals,
@@ -275,22 +285,23 @@ void RuledPolish::jacobian(const Positions& p, const std::vector<Star>& stars, c
   }
 }
 
-double RuledPolish::objective(const Positions& p) const {
-  std::vector<Star> stars(scored_.size());
-  measure(p, stars, true);
-  const Eigen::VectorXd r = residual(p, stars, face_normals(p, triangles_), angle_defects(p, triangles_, scored_mask_));
-  return robust_objective(r) + fit_energy(p);
+RuledPolish::State RuledPolish::state_at(const Positions& p) const {
+  State state;
+  state.stars.resize(scored_.size());
+  measure(p, state.stars, true);
+  state.normals = face_normals(p, triangles_, options_.spare_cores);
+  state.defects = angle_defects(p, triangles_, scored_mask_, options_.spare_cores);
+  state.r = residual(p, state.stars, state.normals, state.defects);
+  return state;
 }
+
+double RuledPolish::objective(const Positions& p) const { return robust_objective(state_at(p).r) + fit_energy(p); }
 
 RuledPolishResult RuledPolish::run(const Progress& progress) {
   RuledPolishResult result;
   result.positions = current_;
   if (scored_.empty()) return result;
-  std::vector<Star> stars(scored_.size());
-  measure(current_, stars, true);
-  Normals normals = face_normals(current_, triangles_);
-  Eigen::VectorXd defects = angle_defects(current_, triangles_, scored_mask_);
-  Eigen::VectorXd r = residual(current_, stars, normals, defects);
+  auto [stars, normals, defects, r] = state_at(current_);
   Eigen::VectorXd weights = group_weights(r);
   double mu = kFirstDamping;
   std::vector<double> history;

@@ -12,6 +12,8 @@ STATE (the scene is built here, from the add-on's own operators):
   warnings   a plate with modifiers and an unwelded seam, before any run
   closed     Blender's default cube after Run: already developable piecewise
   crumpled   a noisy square-to-round duct after Run with the General job
+  pieces     a rounded box (devkit/objects.py, seed 101) after Run: pieces
+             meeting at seams, curvature painted
 
 The add-on must be installed (BLENDER_USER_SCRIPTS, as scripts/run.sh does).
 Opening a .blend (any, e.g. an empty scene saved once) avoids the splash
@@ -34,7 +36,7 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2]))  # devkit
 import panel_recorder
 import shapes
-from devkit import meshes
+from devkit import meshes, objects
 
 ARGS = sys.argv[sys.argv.index("--") + 1 :]
 OUT = os.path.abspath(ARGS[0])
@@ -98,6 +100,11 @@ def build():
         ob = make("duct", *shapes.duct(noise=0.0005))
         bpy.ops.mesh.make_developable()
         return ob, (Vector((0.0, 0.0, 0.15)), 1.1)
+    if STATE == "pieces":
+        box = objects.make("rounded_box", faces=3000, seed=101)
+        ob = make("rounded_box", box.positions, box.triangles)
+        bpy.ops.mesh.make_developable()
+        return ob, (Vector(box.positions.mean(axis=0)), 2.5 * float(np.ptp(box.positions, axis=0).max()))
     raise SystemExit("unknown state %r" % STATE)
 
 

@@ -126,9 +126,10 @@ std::vector<bool> inside_vertices(const MeasuredInput& input, const std::vector<
 
 // Stages 3 and 4 on `pieces` from `positions`: corners of faces creased inside
 // a piece put back, thinning inside the pieces with `deformation`, then the
-// ruled polish. Returns the polish's steps kept.
+// ruled polish of `inside` (inside_vertices of `pieces`). Returns the
+// polish's steps kept.
 int settle_pieces(const MeasuredInput& input, NormalGuidedDeformation& deformation, const std::vector<int>& pieces,
-                  Positions& positions, const Progress& progress) {
+                  const std::vector<bool>& inside, Positions& positions, const Progress& progress) {
   const CreaseGuard crease(input.triangles, input.normals, pieces, kSegmentedCreaseGrowth);
   const StepGuard guard(input, crease);
   guard.heal(positions);
@@ -141,9 +142,8 @@ int settle_pieces(const MeasuredInput& input, NormalGuidedDeformation& deformati
   ruled.limit = input.limit;
   ruled.spare_cores = input.spare_cores;
   ruled.crease_guard = crease;
-  const RuledPolishResult polished =
-      polish_ruled(positions, input.positions, input.normals, input.triangles, inside_vertices(input, pieces),
-                   input.pinned, ruled, progress.sub(0.45, 1.0));
+  const RuledPolishResult polished = polish_ruled(positions, input.positions, input.normals, input.triangles, inside,
+                                                  input.pinned, ruled, progress.sub(0.45, 1.0));
   positions = polished.positions;
   return polished.iterations;
 }
@@ -197,11 +197,11 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   }
   out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
 
-  out.polish_iterations = settle_pieces(input, deformation, out.pieces, out.positions, progress.sub(0.05, 0.6));
+  const std::vector<bool> inside = inside_vertices(input, out.pieces);
+  out.polish_iterations = settle_pieces(input, deformation, out.pieces, inside, out.positions, progress.sub(0.05, 0.6));
 
   // Stage 5: the pieces still curved inside, split in two and settled again
   // from where the polish left them, with a thinning factored anew.
-  const std::vector<bool> inside = inside_vertices(input, out.pieces);
   const std::vector<bool> curved =
       curved_pieces(out.pieces, out.count, input.connectivity, inside, developable_inside(input, out.positions, inside),
                     kCurvedPieceShare, kCurvedPieceInside);
@@ -209,7 +209,8 @@ ThinnedPieces thinned_pieces(const MeasuredInput& input, const Positions& thinne
   out.pieces = split_in_two(out.positions, input.triangles, out.pieces, out.count, curved, progress.sub(0.6, 0.62));
   out.count = 1 + *std::max_element(out.pieces.begin(), out.pieces.end());
   NormalGuidedDeformation again = thinning_deformation(input);
-  out.polish_iterations += settle_pieces(input, again, out.pieces, out.positions, progress.sub(0.62, 1.0));
+  out.polish_iterations += settle_pieces(input, again, out.pieces, inside_vertices(input, out.pieces), out.positions,
+                                         progress.sub(0.62, 1.0));
   return out;
 }
 

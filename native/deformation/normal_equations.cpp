@@ -78,42 +78,68 @@ Eigen::VectorXd NormalEquations::transposed_times(const Eigen::VectorXd& b) {
   return result;
 }
 
-Eigen::SparseMatrix<double>& NormalEquations::normal_matrix() {
+bool NormalEquations::columns_in_triples() {
   index_columns();
-  sum_.resize(static_cast<size_t>(columns_));
+  if (columns_ % 3 != 0) return false;
+  for (Eigen::Index c = 0; c < columns_; c += 3) {
+    const auto at = [&](Eigen::Index j) { return column_start_[static_cast<size_t>(j)]; };
+    const Eigen::Index length = at(c + 1) - at(c);
+    if (at(c + 2) - at(c + 1) != length || at(c + 3) - at(c + 2) != length) return false;
+    for (Eigen::Index a = 0; a < length; ++a) {
+      const int r = column_row_[static_cast<size_t>(at(c) + a)];
+      if (column_row_[static_cast<size_t>(at(c + 1) + a)] != r || column_row_[static_cast<size_t>(at(c + 2) + a)] != r)
+        return false;
+    }
+  }
+  return true;
+}
+
+Eigen::SparseMatrix<double>& NormalEquations::normal_matrix() {
+  const bool triples = columns_in_triples();
+  sum_.resize(static_cast<size_t>(3 * columns_));
   touched_.assign(static_cast<size_t>(columns_), 0);
   normal_.resize(columns_, columns_);  // keeps the storage of the last step
   // Eigen's conservative sparse product, column j of J^T J at a time: over
   // the rows holding column j (ascending), each of their entries' products,
-  // the first of a sum assigned, the next ones added.
-  for (Eigen::Index j = 0; j < columns_; ++j) {
+  // the first of a sum assigned, the next ones added. Columns in triples
+  // share their rows, so a triple's three columns are summed side by side,
+  // each entry's terms in the same order as alone.
+  const Eigen::Index width = triples ? 3 : 1;
+  for (Eigen::Index j = 0; j < columns_; j += width) {
     touched_rows_.clear();
-    for (Eigen::Index a = column_start_[static_cast<size_t>(j)]; a < column_start_[static_cast<size_t>(j) + 1]; ++a) {
-      const double y = column_value_[static_cast<size_t>(a)];
+    const Eigen::Index first = column_start_[static_cast<size_t>(j)];
+    const Eigen::Index last = column_start_[static_cast<size_t>(j) + 1];
+    for (Eigen::Index a = first; a < last; ++a) {
+      double y[3];
+      for (Eigen::Index k = 0; k < width; ++k)
+        y[k] = column_value_[static_cast<size_t>(column_start_[static_cast<size_t>(j + k)] + (a - first))];
       const auto r = static_cast<size_t>(column_row_[static_cast<size_t>(a)]);
-      for (Eigen::Index k = row_start_[r]; k < row_start_[r + 1]; ++k) {
-        const int i = column_[static_cast<size_t>(k)];
-        const double product = value_[static_cast<size_t>(k)] * y;
+      for (Eigen::Index e = row_start_[r]; e < row_start_[r + 1]; ++e) {
+        const int i = column_[static_cast<size_t>(e)];
+        const double x = value_[static_cast<size_t>(e)];
+        double* sum = &sum_[static_cast<size_t>(3 * i)];
         if (touched_[static_cast<size_t>(i)]) {
-          sum_[static_cast<size_t>(i)] += product;
+          for (Eigen::Index k = 0; k < width; ++k) sum[k] += x * y[k];
         } else {
           touched_[static_cast<size_t>(i)] = 1;
-          sum_[static_cast<size_t>(i)] = product;
+          for (Eigen::Index k = 0; k < width; ++k) sum[k] = x * y[k];
           touched_rows_.push_back(i);
         }
       }
     }
-    if (!touched_[static_cast<size_t>(j)]) {
-      touched_[static_cast<size_t>(j)] = 1;
-      sum_[static_cast<size_t>(j)] = 0.0;
-      touched_rows_.push_back(static_cast<int>(j));
-    }
     std::sort(touched_rows_.begin(), touched_rows_.end());
-    normal_.startVec(j);
-    for (int i : touched_rows_) {
-      normal_.insertBack(i, j) = sum_[static_cast<size_t>(i)];
-      touched_[static_cast<size_t>(i)] = 0;
+    for (Eigen::Index k = 0; k < width; ++k) {
+      // A column no row holds gets its explicit zero diagonal (one that a row
+      // holds is among the touched rows: so are the rest of its triple).
+      const bool empty = touched_rows_.empty();
+      normal_.startVec(j + k);
+      if (empty) {
+        normal_.insertBack(j + k, j + k) = 0.0;
+        continue;
+      }
+      for (int i : touched_rows_) normal_.insertBack(i, j + k) = sum_[static_cast<size_t>(3 * i + k)];
     }
+    for (int i : touched_rows_) touched_[static_cast<size_t>(i)] = 0;
   }
   normal_.finalize();
   return normal_;

@@ -51,6 +51,10 @@ class NormalEquations {
  private:
   // J by columns (rows ascending), from the rows, once per J.
   void index_columns();
+  // Whether J's columns come in triples 3c, 3c + 1, 3c + 2 held by the same
+  // rows (a vertex's three coordinates, as the ruled polish adds them): then
+  // J^T J forms a triple's columns in one pass, with the same sums.
+  bool columns_in_triples();
 
   Eigen::Index columns_ = 0;
   std::vector<Eigen::Index> row_start_{0};  // row r's entries: [row_start_[r], row_start_[r + 1])
@@ -61,7 +65,7 @@ class NormalEquations {
   std::vector<Eigen::Index> column_start_;  // J by columns
   std::vector<int> column_row_;
   std::vector<double> column_value_;
-  std::vector<double> sum_;  // J^T J's accumulator of one column, with its marks and rows
+  std::vector<double> sum_;  // J^T J's accumulators of up to three columns (3 i + k), with their marks and rows
   std::vector<char> touched_;
   std::vector<int> touched_rows_;
   Eigen::SparseMatrix<double> normal_;

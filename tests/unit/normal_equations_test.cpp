@@ -37,6 +37,15 @@ std::vector<Entry> random_entries(int rows, int columns, unsigned seed) {
   return entries;
 }
 
+// The same with every entry a vertex's three columns 3c, 3c + 1, 3c + 2 (as
+// the ruled polish adds them): J^T J's columns come in triples.
+std::vector<Entry> random_triples(int rows, int columns, unsigned seed) {
+  std::vector<Entry> entries;
+  for (const Entry& e : random_entries(rows, columns / 3, seed))
+    for (int k = 0; k < 3; ++k) entries.push_back({e.row, 3 * e.column + k, e.value * (1.0 + 0.37 * k)});
+  return entries;
+}
+
 void expect_same_bits(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b) {
   ASSERT_TRUE(a.isCompressed());
   ASSERT_TRUE(b.isCompressed());
@@ -50,52 +59,69 @@ void expect_same_bits(const Eigen::SparseMatrix<double>& a, const Eigen::SparseM
   }
 }
 
+// Builds J of `entries` into `equations`, weights its rows, and expects
+// Eigen's J^T J and J^T b bit for bit.
+void expect_eigens_products(NormalEquations& equations, const std::vector<Entry>& entries, int rows, int columns,
+                            unsigned seed) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (const Entry& e : entries) triplets.emplace_back(e.row, e.column, e.value);
+  Eigen::SparseMatrix<double> jac(rows, columns);
+  jac.setFromTriplets(triplets.begin(), triplets.end());
+
+  equations.start(columns);
+  int open = -1;
+  for (const Entry& e : entries) {
+    while (open < e.row) {
+      equations.next_row();
+      ++open;
+    }
+    equations.add(e.column, e.value);
+  }
+  while (open < rows - 1) {
+    equations.next_row();
+    ++open;
+  }
+  ASSERT_EQ(equations.rows(), rows);
+
+  std::mt19937 random(seed + 10);
+  std::uniform_real_distribution<double> value(0.1, 3.0);
+  Eigen::VectorXd weights(rows), b(rows);
+  for (int r = 0; r < rows; ++r) {
+    weights[r] = value(random);
+    b[r] = value(random) - 1.5;
+  }
+  for (Eigen::Index k = 0; k < jac.nonZeros(); ++k) jac.valuePtr()[k] *= weights[jac.innerIndexPtr()[k]];
+  equations.scale_rows(weights);
+
+  Eigen::SparseMatrix<double> expected = Eigen::SparseMatrix<double>(jac.transpose() * jac);
+  for (Eigen::Index c = 0; c < expected.rows(); ++c) expected.coeffRef(c, c);
+  expected.makeCompressed();
+  expect_same_bits(equations.normal_matrix(), expected);
+
+  const Eigen::VectorXd expected_gradient = jac.transpose() * b;
+  const Eigen::VectorXd gradient = equations.transposed_times(b);
+  ASSERT_EQ(gradient.size(), expected_gradient.size());
+  EXPECT_EQ(std::memcmp(gradient.data(), expected_gradient.data(), sizeof(double) * gradient.size()), 0);
+}
+
 TEST(NormalEquations, EigensProductsBitForBit) {
   NormalEquations equations;
   // Twice with the same object: the buffers of the first J must not leak
   // into the second (a smaller one).
-  for (const auto& [rows, columns, seed] : {std::tuple{400, 300, 1u}, std::tuple{150, 90, 2u}}) {
-    const std::vector<Entry> entries = random_entries(rows, columns, seed);
-    std::vector<Eigen::Triplet<double>> triplets;
-    for (const Entry& e : entries) triplets.emplace_back(e.row, e.column, e.value);
-    Eigen::SparseMatrix<double> jac(rows, columns);
-    jac.setFromTriplets(triplets.begin(), triplets.end());
+  for (const auto& [rows, columns, seed] : {std::tuple{400, 300, 1u}, std::tuple{150, 90, 2u}})
+    expect_eigens_products(equations, random_entries(rows, columns, seed), rows, columns, seed);
+}
 
-    equations.start(columns);
-    int open = -1;
-    for (const Entry& e : entries) {
-      while (open < e.row) {
-        equations.next_row();
-        ++open;
-      }
-      equations.add(e.column, e.value);
-    }
-    while (open < rows - 1) {
-      equations.next_row();
-      ++open;
-    }
-    ASSERT_EQ(equations.rows(), rows);
-
-    std::mt19937 random(seed + 10);
-    std::uniform_real_distribution<double> value(0.1, 3.0);
-    Eigen::VectorXd weights(rows), b(rows);
-    for (int r = 0; r < rows; ++r) {
-      weights[r] = value(random);
-      b[r] = value(random) - 1.5;
-    }
-    for (Eigen::Index k = 0; k < jac.nonZeros(); ++k) jac.valuePtr()[k] *= weights[jac.innerIndexPtr()[k]];
-    equations.scale_rows(weights);
-
-    Eigen::SparseMatrix<double> expected = Eigen::SparseMatrix<double>(jac.transpose() * jac);
-    for (Eigen::Index c = 0; c < expected.rows(); ++c) expected.coeffRef(c, c);
-    expected.makeCompressed();
-    expect_same_bits(equations.normal_matrix(), expected);
-
-    const Eigen::VectorXd expected_gradient = jac.transpose() * b;
-    const Eigen::VectorXd gradient = equations.transposed_times(b);
-    ASSERT_EQ(gradient.size(), expected_gradient.size());
-    EXPECT_EQ(std::memcmp(gradient.data(), expected_gradient.data(), sizeof(double) * gradient.size()), 0);
-  }
+TEST(NormalEquations, ColumnsInTriplesGiveEigensProductsBitForBit) {
+  NormalEquations equations;
+  // Triples, then scattered columns, then triples again with the same object.
+  expect_eigens_products(equations, random_triples(400, 300, 3), 400, 300, 3);
+  expect_eigens_products(equations, random_entries(150, 90, 4), 150, 90, 4);
+  expect_eigens_products(equations, random_triples(150, 93, 5), 150, 93, 5);
+  // Triples but for one more row that holds one column of a triple alone.
+  std::vector<Entry> broken = random_triples(100, 60, 6);
+  broken.push_back({100, 0, 1.5});
+  expect_eigens_products(equations, broken, 101, 60, 6);
 }
 
 TEST(NormalEquations, RefusesEntriesOutsideJ) {

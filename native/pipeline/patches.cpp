@@ -131,6 +131,15 @@ std::vector<bool> patch_border_vertices(const Triangles& triangles, const std::v
   return border;
 }
 
+std::vector<bool> inside_patches(const std::vector<bool>& interior, const std::vector<bool>& border,
+                                 const std::vector<bool>& pinned) {
+  if (border.size() != interior.size() || (!pinned.empty() && pinned.size() != interior.size()))
+    throw EngineError(Status::internal_error, "inside_patches: sizes disagree");
+  std::vector<bool> inside(interior.size());
+  for (size_t v = 0; v < inside.size(); ++v) inside[v] = interior[v] && !border[v] && (pinned.empty() || !pinned[v]);
+  return inside;
+}
+
 bool patches_fit_cones(const std::vector<int>& patch_ids, int patch_count, const Normals& normals,
                        const Eigen::VectorXd& areas) {
   std::vector<NormalMoments> moments(static_cast<size_t>(patch_count));

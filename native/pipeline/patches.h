@@ -77,6 +77,12 @@ double curve_fit_error(const Normals& normals, const Normals& targets, const Eig
 std::vector<bool> patch_border_vertices(const Triangles& triangles, const std::vector<int>& patch_ids,
                                         Eigen::Index vertex_count);
 
+// The vertices inside the patches: interior, not on `border`
+// (patch_border_vertices) and, when `pinned` is not empty, not pinned. All
+// three masks per vertex (pinned may be empty).
+std::vector<bool> inside_patches(const std::vector<bool>& interior, const std::vector<bool>& border,
+                                 const std::vector<bool>& pinned);
+
 // Whether every face normal lies within kFlatDefect (rad) of its patch's
 // cone (cone_fit.h): each patch's Gauss image is a circle of the sphere, so
 // each patch is a plane, a cylinder or a cone as it stands.

@@ -74,8 +74,7 @@ PatchRun patch_run(const MeasuredInput& input, const Patches& patches) {
     for (size_t v = 0; v < run.pinned.size(); ++v) run.pinned[v] = run.pinned[v] || border[v];
   run.scored = input.measured.interior;
   if (run.piecewise) {
-    std::vector<bool> inside = run.scored;
-    for (size_t v = 0; v < inside.size(); ++v) inside[v] = inside[v] && !border[v];
+    std::vector<bool> inside = inside_patches(run.scored, border, {});
     if (std::find(inside.begin(), inside.end(), true) != inside.end()) run.scored = std::move(inside);
   }
   run.scored_count = std::count(run.scored.begin(), run.scored.end(), true);

@@ -118,10 +118,8 @@ void thin(const MeasuredInput& input, NormalGuidedDeformation& deformation, cons
 // The interior vertices off every seam of `pieces`, not pinned: the ones the
 // ruled polish makes flat and ruled.
 std::vector<bool> inside_vertices(const MeasuredInput& input, const std::vector<int>& pieces) {
-  const std::vector<bool> border = patch_border_vertices(input.triangles, pieces, input.positions.rows());
-  std::vector<bool> inside = input.measured.interior;
-  for (size_t v = 0; v < inside.size(); ++v) inside[v] = inside[v] && !border[v] && !input.pinned[v];
-  return inside;
+  return inside_patches(input.measured.interior, patch_border_vertices(input.triangles, pieces, input.positions.rows()),
+                        input.pinned);
 }
 
 // Stages 3 and 4 on `pieces` from `positions`: corners of faces creased inside

@@ -142,6 +142,20 @@ TEST(Pipeline, FacesOfPatchesAndTargetsOnTheirOwnPatch) {
   EXPECT_EQ(patches[2], std::vector<Eigen::Index>({3}));
 }
 
+TEST(Pipeline, InsidePatchesIsInteriorOffTheBordersAndUnpinned) {
+  // A strip of four triangles over six vertices (0-1-2 on top, 3-4-5 below),
+  // two patches meeting at vertices 1 and 4.
+  Triangles triangles(4, 3);
+  triangles << 0, 3, 1, 1, 3, 4, 1, 4, 2, 2, 4, 5;
+  const std::vector<bool> border = patch_border_vertices(triangles, {0, 0, 1, 1}, 6);
+  EXPECT_EQ(border, std::vector<bool>({false, true, false, false, true, false}));
+  const std::vector<bool> interior = {true, true, true, false, true, true};
+  EXPECT_EQ(inside_patches(interior, border, {}), std::vector<bool>({true, false, true, false, false, true}));
+  EXPECT_EQ(inside_patches(interior, border, {false, false, true, false, false, false}),
+            std::vector<bool>({true, false, false, false, false, true}));
+  EXPECT_THROW(inside_patches(interior, border, {true}), EngineError);
+}
+
 // The result check (issue 11): whatever the run does, the result turns no
 // face over and is no worse than the input on mean |defect| and flat share;
 // the input comes back, flagged unchanged with a message, otherwise.

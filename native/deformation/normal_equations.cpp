@@ -81,8 +81,8 @@ Eigen::VectorXd NormalEquations::transposed_times(const Eigen::VectorXd& b) {
 bool NormalEquations::columns_in_triples() {
   index_columns();
   if (columns_ % 3 != 0) return false;
+  const auto at = [&](Eigen::Index j) { return column_start_[static_cast<size_t>(j)]; };
   for (Eigen::Index c = 0; c < columns_; c += 3) {
-    const auto at = [&](Eigen::Index j) { return column_start_[static_cast<size_t>(j)]; };
     const Eigen::Index length = at(c + 1) - at(c);
     if (at(c + 2) - at(c + 1) != length || at(c + 3) - at(c + 2) != length) return false;
     for (Eigen::Index a = 0; a < length; ++a) {
@@ -128,15 +128,12 @@ Eigen::SparseMatrix<double>& NormalEquations::normal_matrix() {
       }
     }
     std::sort(touched_rows_.begin(), touched_rows_.end());
+    // A column no row holds gets its explicit zero diagonal (one that a row
+    // holds is among the touched rows: so are the rest of its triple).
+    const bool empty = touched_rows_.empty();
     for (Eigen::Index k = 0; k < width; ++k) {
-      // A column no row holds gets its explicit zero diagonal (one that a row
-      // holds is among the touched rows: so are the rest of its triple).
-      const bool empty = touched_rows_.empty();
       normal_.startVec(j + k);
-      if (empty) {
-        normal_.insertBack(j + k, j + k) = 0.0;
-        continue;
-      }
+      if (empty) normal_.insertBack(j + k, j + k) = 0.0;
       for (int i : touched_rows_) normal_.insertBack(i, j + k) = sum_[static_cast<size_t>(3 * i + k)];
     }
     for (int i : touched_rows_) touched_[static_cast<size_t>(i)] = 0;

@@ -18,12 +18,9 @@ addon/core/estimate.py.
 CPU seconds are what the fit uses: wall seconds on a shared machine depend on what else runs."""
 import argparse
 import json
-import os
 import pathlib
-import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 
@@ -31,7 +28,7 @@ REPO = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from devkit import families, objects
 from devkit.machine import machine_info
-from devkit.obj import read_obj, write_obj
+from devkit.tool import run_tool_measured
 from addon.core import estimate
 
 SHEETS = ("cylinder_patch", "cone_patch", "bent_sheet", "tangent_random")
@@ -67,18 +64,10 @@ def cases(sizes, quick):
 def run_case(tool, work, positions, triangles):
     """(stats, cpu seconds, wall seconds, peak bytes, output positions) of the tool's defaults
     (its warnings are in stats["result_message"])."""
-    src, dst, report = work / "in.obj", work / "out.obj", work / "r.json"
-    write_obj(src, positions, triangles)
-    start = time.perf_counter()
-    child = subprocess.Popen(
-        [str(tool), str(src), str(dst), "--quiet", "--report", str(report)], stderr=subprocess.DEVNULL
-    )
-    _, status, usage = os.wait4(child.pid, 0)
-    wall = time.perf_counter() - start
-    if status != 0:
-        raise RuntimeError("the tool failed with status %d" % status)
-    stats = json.loads(report.read_text())["stats"]
-    return stats, usage.ru_utime + usage.ru_stime, wall, usage.ru_maxrss * 1024, read_obj(dst)[0]
+    run = run_tool_measured(tool, work, positions, triangles)
+    if isinstance(run, str):
+        raise RuntimeError("the tool failed: " + run)
+    return run.report["stats"], run.cpu_s, run.wall_s, run.peak_bytes, run.positions
 
 
 def twin_distances(before, after, clean):

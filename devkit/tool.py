@@ -1,34 +1,70 @@
 """The command-line tool on arrays, for the benchmark scripts that compare runs
-(bench/families.py, bench/objects.py): the mesh written as OBJ, the tool run with
-its defaults (--quiet --report), the result read back."""
+(bench/families.py, bench/objects.py, bench/scans.py): the mesh written as OBJ,
+the tool run with its defaults (--quiet --report), the result read back."""
 import json
+import os
 import subprocess
 import time
+from dataclasses import dataclass
+
+import numpy as np
 
 from .obj import read_obj, write_obj
 
 
-def run_tool(tool, work, positions, triangles, options=()):
-    """(result positions, report stats, seconds) of the tool's defaults (and
-    the command-line `options`) on the mesh, its files in the folder `work`,
+@dataclass
+class ToolRun:
+    """One run of the tool: its result, its whole report (stats, patch_ids,
+    curves) and what it cost."""
+
+    positions: np.ndarray
+    report: dict
+    wall_s: float  # seconds from start to exit
+    cpu_s: float  # user + system seconds of the tool, all its threads
+    peak_bytes: int  # the tool's peak resident memory
+
+
+def run_tool_measured(tool, work, positions, triangles, options=()):
+    """A ToolRun of the tool's defaults (and the command-line `options`) on
+    the mesh, its files in the folder `work`; or the end of its error
+    message. CPU and memory from the child's own rusage (os.wait4): the
+    figures of the tool alone, whatever else this process runs."""
+    src, dst, report, errors = work / "in.obj", work / "out.obj", work / "r.json", work / "stderr.txt"
+    write_obj(src, positions, triangles)
+    start = time.perf_counter()
+    # stderr into a file: a pipe nobody reads while waiting could fill up.
+    with open(errors, "w") as stderr:
+        child = subprocess.Popen(
+            [str(tool), str(src), str(dst), "--quiet", "--report", str(report), *options],
+            stdout=subprocess.DEVNULL,
+            stderr=stderr,
+        )
+        _, status, usage = os.wait4(child.pid, 0)
+    wall = time.perf_counter() - start
+    if os.waitstatus_to_exitcode(status) != 0:
+        return errors.read_text().strip()[-200:] or "the tool failed with status %d" % status
+    return ToolRun(
+        read_obj(dst)[0],
+        json.loads(report.read_text()),
+        wall,
+        usage.ru_utime + usage.ru_stime,
+        usage.ru_maxrss * 1024,
+    )
+
+
+def run_tool_report(tool, work, positions, triangles, options=()):
+    """(result positions, the whole report, wall seconds) of run_tool_measured,
     or the end of its error message."""
+    run = run_tool_measured(tool, work, positions, triangles, options)
+    if isinstance(run, str):
+        return run
+    return run.positions, run.report, run.wall_s
+
+
+def run_tool(tool, work, positions, triangles, options=()):
+    """As run_tool_report, with the report's stats in place of the whole report."""
     run = run_tool_report(tool, work, positions, triangles, options)
     if isinstance(run, str):
         return run
     after, report, seconds = run
     return after, report["stats"], seconds
-
-
-def run_tool_report(tool, work, positions, triangles, options=()):
-    """As run_tool, with the whole report (its stats, patch_ids, curves) in
-    place of its stats."""
-    src, dst, report = work / "in.obj", work / "out.obj", work / "r.json"
-    write_obj(src, positions, triangles)
-    start = time.perf_counter()
-    run = subprocess.run(
-        [str(tool), str(src), str(dst), "--quiet", "--report", str(report), *options], capture_output=True, text=True
-    )
-    seconds = time.perf_counter() - start
-    if run.returncode != 0:
-        return run.stderr.strip()[-200:]
-    return read_obj(dst)[0], json.loads(report.read_text()), seconds

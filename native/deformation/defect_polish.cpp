@@ -495,11 +495,12 @@ class RegionPolish {
   Positions trial_;
   Eigen::VectorXd trial_defects_;
   double trial_energy_ = 0.0;
-  // J J^T + damping is factored at one iterate and reused while its steps
-  // keep lowering sum K^2 well (the vertices move little, so J changes
-  // little); it is refactored at the current iterate when a step gains
-  // little, and with more damping when even a fresh factor's steps fail.
-  // The spreading damping holds until every |K| is below spread_until.
+  // J J^T + damping is factored at one iterate and reused (where factored;
+  // conjugate gradients assemble it anew each step) while its steps keep
+  // lowering sum K^2 well (the vertices move little, so J changes little);
+  // it is refactored at the current iterate when a step gains little, and
+  // with more damping when even a fresh factor's steps fail. The spreading
+  // damping holds until every |K| is below spread_until.
   double least_damping_ = 0.0;
   double damping_ = 0.0;
   bool factored_ = false;
@@ -697,11 +698,16 @@ PolishResult RegionPolish::run(Eigen::VectorXd defects) {
     }
     if (stalled) break;
     // A factor whose step gained well is kept; else refactor (with less
-    // damping when the fresh one did well).
+    // damping when the fresh one did well). Conjugate gradients keep no
+    // factor: J J^T assembled anew costs less than the stale system's step,
+    // which on noisy scans failed at every length, its halvings wasted
+    // (docs/method.md, "No stale systems for conjugate gradients").
     fresh_ = false;
     if (decrease < kReuseDecrease) {
       factored_ = false;
       damping_ = std::max(damping_ / kDampingDown, least_damping_);
+    } else if (system_.iterative()) {
+      factored_ = false;
     }
   }
   result_.positions = std::move(current_);

@@ -41,8 +41,9 @@ def run_tool_measured(tool, work, positions, triangles, options=()):
         )
         _, status, usage = os.wait4(child.pid, 0)
     wall = time.perf_counter() - start
-    if os.waitstatus_to_exitcode(status) != 0:
-        return errors.read_text().strip()[-200:] or "the tool failed with status %d" % status
+    code = os.waitstatus_to_exitcode(status)
+    if code != 0:
+        return errors.read_text().strip()[-200:] or "the tool failed with exit code %d" % code
     return ToolRun(
         read_obj(dst)[0],
         json.loads(report.read_text()),
@@ -63,8 +64,7 @@ def run_tool_report(tool, work, positions, triangles, options=()):
 
 def run_tool(tool, work, positions, triangles, options=()):
     """As run_tool_report, with the report's stats in place of the whole report."""
-    run = run_tool_report(tool, work, positions, triangles, options)
+    run = run_tool_measured(tool, work, positions, triangles, options)
     if isinstance(run, str):
         return run
-    after, report, seconds = run
-    return after, report["stats"], seconds
+    return run.positions, run.report["stats"], run.wall_s

@@ -345,6 +345,12 @@ class DampedSystem {
   // Whether the last compute chose conjugate gradients.
   bool iterative() const { return rows_ > direct_rows_; }
 
+  // Whether a system computed at one iterate is worth solving again at the
+  // next: a factorization is dear; J J^T for conjugate gradients is not, and
+  // its stale step failed at every length on noisy scans (docs/method.md,
+  // "No stale systems for conjugate gradients").
+  bool worth_reusing() const { return !iterative(); }
+
   // More conjugate-gradient iterations from the next solve on; false when
   // the system is factored or already at kMostIterativeSteps.
   bool refine() {
@@ -495,11 +501,12 @@ class RegionPolish {
   Positions trial_;
   Eigen::VectorXd trial_defects_;
   double trial_energy_ = 0.0;
-  // J J^T + damping is factored at one iterate and reused (where factored;
-  // conjugate gradients assemble it anew each step) while its steps keep
-  // lowering sum K^2 well (the vertices move little, so J changes little);
-  // it is refactored at the current iterate when a step gains little, and
-  // with more damping when even a fresh factor's steps fail. The spreading
+  // J J^T + damping is factored at one iterate and, where worth reusing
+  // (DampedSystem), reused while its steps keep lowering sum K^2 well (the
+  // vertices move little, so J changes little); it is refactored at the
+  // current iterate when a step gains little, and with more damping when
+  // even a fresh factor's steps fail. Conjugate gradients given more
+  // iterations (refine) still solve the last system once more. The spreading
   // damping holds until every |K| is below spread_until.
   double least_damping_ = 0.0;
   double damping_ = 0.0;
@@ -697,18 +704,11 @@ PolishResult RegionPolish::run(Eigen::VectorXd defects) {
       continue;
     }
     if (stalled) break;
-    // A factor whose step gained well is kept; else refactor (with less
-    // damping when the fresh one did well). Conjugate gradients keep no
-    // factor: J J^T assembled anew costs less than the stale system's step,
-    // which on noisy scans failed at every length, its halvings wasted
-    // (docs/method.md, "No stale systems for conjugate gradients").
+    // A factor whose step gained well is kept where worth reusing; else
+    // refactor (with less damping when the fresh one did well).
     fresh_ = false;
-    if (decrease < kReuseDecrease) {
-      factored_ = false;
-      damping_ = std::max(damping_ / kDampingDown, least_damping_);
-    } else if (system_.iterative()) {
-      factored_ = false;
-    }
+    if (decrease < kReuseDecrease) damping_ = std::max(damping_ / kDampingDown, least_damping_);
+    factored_ = decrease >= kReuseDecrease && system_.worth_reusing();
   }
   result_.positions = std::move(current_);
   result_.residual_after = std::sqrt(residual_.squaredNorm() / static_cast<double>(rows_));

@@ -20,12 +20,15 @@
 
 namespace developable {
 
+// The feature guard's default angle (JetDenoiseOptions::feature_angle_deg).
+constexpr double kJetFeatureAngle = 30.0;
+
 struct JetDenoiseOptions {
   // A vertex is left where it is if a face of its two-ring turns more than
   // this (degrees) from the ring's plane: a crease, a corner, or a surface
   // too coarsely sampled for one quadric (a wave a few edges long), where
   // the fit would cut the feature instead of the noise.
-  double feature_angle_deg = 30.0;
+  double feature_angle_deg = kJetFeatureAngle;
   // Empty, or one group id per face (pieces meeting at creases): a vertex's
   // rings then hold only the faces of its own group, so that the fit never
   // reaches across a border, and a vertex on a border (faces of two groups)
@@ -45,5 +48,14 @@ struct JetDenoiseOptions {
 // per face.
 Positions jet_denoise(const Positions& positions, const Triangles& triangles, const VertexFaces& connectivity,
                       const std::vector<bool>& pinned, const JetDenoiseOptions& options = {});
+
+// The smoothings of several feature guards at once: one per entry of
+// feature_angles_deg, in that order, each the same bits as jet_denoise with
+// that angle alone (and `face_groups`), each vertex's ring and quadric
+// fitted once for all of them (least motion's guarded and unguarded starts:
+// half the work of two calls). Empty for no angle; throws as above.
+std::vector<Positions> jet_denoise(const Positions& positions, const Triangles& triangles,
+                                   const VertexFaces& connectivity, const std::vector<bool>& pinned,
+                                   const std::vector<double>& feature_angles_deg, const std::vector<int>& face_groups);
 
 }  // namespace developable

@@ -123,16 +123,15 @@ struct InputSmoothings {
 
 InputSmoothings smooth_input(const PatchRun& run) {
   const MeasuredInput& input = run.input;
+  std::vector<double> guards{kJetFeatureAngle};
+  if (run.sheets) guards.push_back(kProjectionSmoothing);
+  std::vector<Positions> smoothings =
+      jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, guards, smoothing_groups(run));
   InputSmoothings out;
-  JetDenoiseOptions guarded;
-  guarded.face_groups = smoothing_groups(run);
-  out.guarded = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, guarded);
+  out.guarded = std::move(smoothings.front());
   clamp_moves(out.guarded, input.positions, input.limit);
   if (run.sheets) {
-    JetDenoiseOptions unguarded;
-    unguarded.feature_angle_deg = kProjectionSmoothing;
-    unguarded.face_groups = smoothing_groups(run);
-    out.unguarded = jet_denoise(input.positions, input.triangles, input.connectivity, run.pinned, unguarded);
+    out.unguarded = std::move(smoothings.back());
     clamp_moves(*out.unguarded, input.positions, input.limit);
   }
   return out;

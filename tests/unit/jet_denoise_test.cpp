@@ -127,6 +127,31 @@ TEST(JetDenoise, SmoothsEachGroupOnItsOwn) {
   EXPECT_LT(off_sides(s, m.positions)(inside).mean(), 0.6 * off_sides(noisy, m.positions)(inside).mean());
 }
 
+TEST(JetDenoise, SeveralGuardsAtOnceAreEachAloneBitForBit) {
+  const FoldedSheet sheet = folded_sheet();
+  const test::Mesh& m = sheet.mesh;
+  const VertexFaces connectivity = vertex_faces(m.triangles, m.positions.rows());
+  Positions noisy = m.positions;
+  test::add_noise(noisy, 0.003, 7);
+  std::vector<bool> pinned(static_cast<size_t>(noisy.rows()), false);
+  pinned[3] = true;
+  for (const std::vector<int>& groups : {std::vector<int>{}, sheet.sides}) {
+    const std::vector<double> angles{30.0, 90.0, 5.0};
+    const std::vector<Positions> together = jet_denoise(noisy, m.triangles, connectivity, pinned, angles, groups);
+    ASSERT_EQ(together.size(), angles.size());
+    for (size_t k = 0; k < angles.size(); ++k) {
+      JetDenoiseOptions alone;
+      alone.feature_angle_deg = angles[k];
+      alone.face_groups = groups;
+      EXPECT_EQ(together[k], jet_denoise(noisy, m.triangles, connectivity, pinned, alone)) << angles[k];
+    }
+    // The guards differ where they should: without groups the 30-degree
+    // guard keeps the fold, the unguarded smoothing rounds it.
+    if (groups.empty()) EXPECT_NE(together[0], together[1]);
+  }
+  EXPECT_TRUE(jet_denoise(noisy, m.triangles, connectivity, {}, std::vector<double>{}, {}).empty());
+}
+
 TEST(JetDenoise, RejectsGroupsOfTheWrongSize) {
   const test::Mesh m = test::plane();
   JetDenoiseOptions options;

@@ -147,7 +147,9 @@ TEST(JetDenoise, SeveralGuardsAtOnceAreEachAloneBitForBit) {
     }
     // The guards differ where they should: without groups the 30-degree
     // guard keeps the fold, the unguarded smoothing rounds it.
-    if (groups.empty()) EXPECT_NE(together[0], together[1]);
+    if (groups.empty()) {
+      EXPECT_NE(together[0], together[1]);
+    }
   }
   EXPECT_TRUE(jet_denoise(noisy, m.triangles, connectivity, {}, std::vector<double>{}, {}).empty());
 }

@@ -205,27 +205,31 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles, con
   const Eigen::Index n = static_cast<Eigen::Index>(pinned.size());
   const Eigen::Matrix3d b = decoupled_rows(centroid_weight_);
   const Eigen::Matrix3d local = b.transpose() * b;
-  Triplets free_free, free_pinned;
-  free_free.reserve(static_cast<size_t>(triangles.rows()) * 9);
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    for (int r = 0; r < 3; ++r) {
-      const int row = system_->free_index[static_cast<size_t>(triangles(f, r))];
-      if (row < 0) continue;
-      for (int c = 0; c < 3; ++c) {
-        const int v = triangles(f, c);
-        const int col = system_->free_index[static_cast<size_t>(v)];
-        const double value = row_weights_[f] * local(r, c);
-        if (col >= 0)
-          free_free.emplace_back(row, col, value);
-        else
-          free_pinned.emplace_back(row, v, value);
+  {
+    // The triplets go before the factorisation: at 1M faces they were 144 MB
+    // held beside its 350 MB factor.
+    Triplets free_free, free_pinned;
+    free_free.reserve(static_cast<size_t>(triangles.rows()) * 9);
+    for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+      for (int r = 0; r < 3; ++r) {
+        const int row = system_->free_index[static_cast<size_t>(triangles(f, r))];
+        if (row < 0) continue;
+        for (int c = 0; c < 3; ++c) {
+          const int v = triangles(f, c);
+          const int col = system_->free_index[static_cast<size_t>(v)];
+          const double value = row_weights_[f] * local(r, c);
+          if (col >= 0)
+            free_free.emplace_back(row, col, value);
+          else
+            free_pinned.emplace_back(row, v, value);
+        }
       }
     }
+    system_->free_free.resize(system_->free_count, system_->free_count);
+    system_->free_free.setFromTriplets(free_free.begin(), free_free.end());
+    system_->free_pinned.resize(system_->free_count, n);
+    system_->free_pinned.setFromTriplets(free_pinned.begin(), free_pinned.end());
   }
-  system_->free_free.resize(system_->free_count, system_->free_count);
-  system_->free_free.setFromTriplets(free_free.begin(), free_free.end());
-  system_->free_pinned.resize(system_->free_count, n);
-  system_->free_pinned.setFromTriplets(free_pinned.begin(), free_pinned.end());
   system_->solver.compute(system_->free_free);
   if (system_->solver.info() != Eigen::Success)
     throw EngineError(Status::numerical_failure, "factoring the deformation matrix failed");
@@ -235,29 +239,32 @@ void NormalGuidedDeformation::factor_coupled() {
   const Eigen::Index n = static_cast<Eigen::Index>(system_->free_index.size());
   const Eigen::Matrix3d b = decoupled_rows(centroid_weight_);
   const Eigen::Matrix3d shape = b.transpose() * b;
-  Triplets free_free, free_pinned;
-  free_free.reserve(static_cast<size_t>(triangles_.rows()) * 81);
-  for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
-    const Eigen::Matrix<double, 9, 9> local =
-        row_weights_[f] * coupled_normal_block(shape, targets_.row(f).transpose(), omega_);
-    for (int r = 0; r < 9; ++r) {
-      const int row_vertex = system_->free_index[static_cast<size_t>(triangles_(f, r / 3))];
-      if (row_vertex < 0) continue;
-      for (int c = 0; c < 9; ++c) {
-        const int v = triangles_(f, c / 3);
-        const int col_vertex = system_->free_index[static_cast<size_t>(v)];
-        if (col_vertex >= 0)
-          free_free.emplace_back(3 * row_vertex + r % 3, 3 * col_vertex + c % 3, local(r, c));
-        else
-          free_pinned.emplace_back(3 * row_vertex + r % 3, 3 * v + c % 3, local(r, c));
+  const bool first = system_->free_free.nonZeros() == 0;
+  {
+    // As in the decoupled factor: the triplets go before the factorisation.
+    Triplets free_free, free_pinned;
+    free_free.reserve(static_cast<size_t>(triangles_.rows()) * 81);
+    for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+      const Eigen::Matrix<double, 9, 9> local =
+          row_weights_[f] * coupled_normal_block(shape, targets_.row(f).transpose(), omega_);
+      for (int r = 0; r < 9; ++r) {
+        const int row_vertex = system_->free_index[static_cast<size_t>(triangles_(f, r / 3))];
+        if (row_vertex < 0) continue;
+        for (int c = 0; c < 9; ++c) {
+          const int v = triangles_(f, c / 3);
+          const int col_vertex = system_->free_index[static_cast<size_t>(v)];
+          if (col_vertex >= 0)
+            free_free.emplace_back(3 * row_vertex + r % 3, 3 * col_vertex + c % 3, local(r, c));
+          else
+            free_pinned.emplace_back(3 * row_vertex + r % 3, 3 * v + c % 3, local(r, c));
+        }
       }
     }
+    system_->free_free.resize(3 * system_->free_count, 3 * system_->free_count);
+    system_->free_free.setFromTriplets(free_free.begin(), free_free.end());
+    system_->free_pinned.resize(3 * system_->free_count, 3 * n);
+    system_->free_pinned.setFromTriplets(free_pinned.begin(), free_pinned.end());
   }
-  const bool first = system_->free_free.nonZeros() == 0;
-  system_->free_free.resize(3 * system_->free_count, 3 * system_->free_count);
-  system_->free_free.setFromTriplets(free_free.begin(), free_free.end());
-  system_->free_pinned.resize(3 * system_->free_count, 3 * n);
-  system_->free_pinned.setFromTriplets(free_pinned.begin(), free_pinned.end());
   // The pattern depends only on the mesh and the pins: analyse it once.
   if (first) system_->solver.analyzePattern(system_->free_free);
   system_->solver.factorize(system_->free_free);

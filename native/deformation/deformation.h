@@ -131,10 +131,10 @@ class NormalGuidedDeformation {
   void release();
 
   // The normal matrix on the free unknowns (n_free x n_free in the decoupled
-  // formulation, 3 n_free square in the coupled one), for benchmarks of the
-  // linear solve (bench/solvers.cpp). Throws EngineError(internal_error)
-  // after release().
-  const Eigen::SparseMatrix<double>& system_matrix() const;
+  // formulation, built anew: the run keeps only its factor; 3 n_free square
+  // in the coupled one), for benchmarks of the linear solve
+  // (bench/solvers.cpp). Throws EngineError(internal_error) after release().
+  Eigen::SparseMatrix<double> system_matrix() const;
 
  private:
   // The unknowns, the normal matrix on them, its coupling to the pinned
@@ -142,13 +142,16 @@ class NormalGuidedDeformation {
   struct System {
     std::vector<int> free_index;  // vertex -> unknown number, -1 when pinned
     Eigen::Index free_count = 0;
-    Eigen::SparseMatrix<double> free_free;    // normal matrix on the free unknowns
+    Eigen::SparseMatrix<double> free_free;    // normal matrix on the free unknowns (coupled only)
     Eigen::SparseMatrix<double> free_pinned;  // its coupling to the pinned coordinates
     CholeskySolver solver;
   };
 
   NormalGuidedDeformation(const NormalGuidedDeformation&) = default;  // shares the system (sharing_factor)
 
+  // The decoupled normal matrix on the free unknowns and its coupling to
+  // the pinned coordinates.
+  void decoupled_matrices(Eigen::SparseMatrix<double>& free_free, Eigen::SparseMatrix<double>& free_pinned) const;
   void factor_coupled();
   Positions step_coupled(const Positions& current) const;
   Positions step_decoupled(const Positions& current, const Normals& normals) const;

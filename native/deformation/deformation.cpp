@@ -239,37 +239,40 @@ void NormalGuidedDeformation::decoupled_matrices(Eigen::SparseMatrix<double>& fr
   free_pinned.setFromTriplets(free_pinned_entries.begin(), free_pinned_entries.end());
 }
 
-void NormalGuidedDeformation::factor_coupled() {
+void NormalGuidedDeformation::coupled_matrices(Eigen::SparseMatrix<double>& free_free,
+                                               Eigen::SparseMatrix<double>& free_pinned) const {
   const Eigen::Index n = static_cast<Eigen::Index>(system_->free_index.size());
   const Eigen::Matrix3d b = decoupled_rows(centroid_weight_);
   const Eigen::Matrix3d shape = b.transpose() * b;
-  const bool first = system_->free_free.nonZeros() == 0;
-  {
-    // As in the decoupled factor: the triplets go before the factorisation.
-    Triplets free_free, free_pinned;
-    free_free.reserve(static_cast<size_t>(triangles_.rows()) * 81);
-    for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
-      const Eigen::Matrix<double, 9, 9> local =
-          row_weights_[f] * coupled_normal_block(shape, targets_.row(f).transpose(), omega_);
-      for (int r = 0; r < 9; ++r) {
-        const int row_vertex = system_->free_index[static_cast<size_t>(triangles_(f, r / 3))];
-        if (row_vertex < 0) continue;
-        for (int c = 0; c < 9; ++c) {
-          const int v = triangles_(f, c / 3);
-          const int col_vertex = system_->free_index[static_cast<size_t>(v)];
-          if (col_vertex >= 0)
-            free_free.emplace_back(3 * row_vertex + r % 3, 3 * col_vertex + c % 3, local(r, c));
-          else
-            free_pinned.emplace_back(3 * row_vertex + r % 3, 3 * v + c % 3, local(r, c));
-        }
+  Triplets free_free_entries, free_pinned_entries;
+  free_free_entries.reserve(static_cast<size_t>(triangles_.rows()) * 81);
+  for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
+    const Eigen::Matrix<double, 9, 9> local =
+        row_weights_[f] * coupled_normal_block(shape, targets_.row(f).transpose(), omega_);
+    for (int r = 0; r < 9; ++r) {
+      const int row_vertex = system_->free_index[static_cast<size_t>(triangles_(f, r / 3))];
+      if (row_vertex < 0) continue;
+      for (int c = 0; c < 9; ++c) {
+        const int v = triangles_(f, c / 3);
+        const int col_vertex = system_->free_index[static_cast<size_t>(v)];
+        if (col_vertex >= 0)
+          free_free_entries.emplace_back(3 * row_vertex + r % 3, 3 * col_vertex + c % 3, local(r, c));
+        else
+          free_pinned_entries.emplace_back(3 * row_vertex + r % 3, 3 * v + c % 3, local(r, c));
       }
     }
-    system_->free_free.resize(3 * system_->free_count, 3 * system_->free_count);
-    system_->free_free.setFromTriplets(free_free.begin(), free_free.end());
-    system_->free_pinned.resize(3 * system_->free_count, 3 * n);
-    system_->free_pinned.setFromTriplets(free_pinned.begin(), free_pinned.end());
   }
-  // The pattern depends only on the mesh and the pins: analyse it once.
+  free_free.resize(3 * system_->free_count, 3 * system_->free_count);
+  free_free.setFromTriplets(free_free_entries.begin(), free_free_entries.end());
+  free_pinned.resize(3 * system_->free_count, 3 * n);
+  free_pinned.setFromTriplets(free_pinned_entries.begin(), free_pinned_entries.end());
+}
+
+void NormalGuidedDeformation::factor_coupled() {
+  // The pattern depends only on the mesh and the pins: analysed once, at the
+  // first factorisation. The matrices' triplets are gone before it.
+  const bool first = system_->free_free.nonZeros() == 0;
+  coupled_matrices(system_->free_free, system_->free_pinned);
   if (first) system_->solver.analyzePattern(system_->free_free);
   system_->solver.factorize(system_->free_free);
   if (system_->solver.info() != Eigen::Success)

@@ -149,9 +149,12 @@ class NormalGuidedDeformation {
 
   NormalGuidedDeformation(const NormalGuidedDeformation&) = default;  // shares the system (sharing_factor)
 
-  // The decoupled normal matrix on the free unknowns and its coupling to
-  // the pinned coordinates.
+  // The normal matrix on the free unknowns and its coupling to the pinned
+  // coordinates: decoupled (one unknown per free vertex, the same matrix for
+  // x, y and z) and coupled (three per free vertex, at the current targets).
   void decoupled_matrices(Eigen::SparseMatrix<double>& free_free, Eigen::SparseMatrix<double>& free_pinned) const;
+  void coupled_matrices(Eigen::SparseMatrix<double>& free_free, Eigen::SparseMatrix<double>& free_pinned) const;
+  // Builds the coupled matrices at the current targets and factors them.
   void factor_coupled();
   Positions step_coupled(const Positions& current) const;
   Positions step_decoupled(const Positions& current, const Normals& normals) const;

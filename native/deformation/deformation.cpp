@@ -31,6 +31,42 @@ Eigen::Matrix<double, 9, 9> coupled_normal_block(const Eigen::Matrix3d& shape, c
   return block;
 }
 
+// The normal matrix on the free unknowns and its coupling to the pinned
+// coordinates, summed from one block per face: block_of(f) is a 3 D x 3 D
+// matrix over the face's corners' D unknowns each (row r: corner r / D,
+// coordinate r % D; D = 1 in the decoupled system, 3 in the coupled one).
+// Unknown D u + k is coordinate k of the free vertex numbered u
+// (free_index), column D v + k of free_pinned that of pinned vertex v.
+// block_of returns a matrix, not an Eigen expression (which could refer to
+// a temporary gone by the time it is read).
+template <int D, typename BlockOf>
+void normal_matrices(const Triangles& triangles, const std::vector<int>& free_index, Eigen::Index free_count,
+                     const BlockOf& block_of, Eigen::SparseMatrix<double>& free_free,
+                     Eigen::SparseMatrix<double>& free_pinned) {
+  const auto n = static_cast<Eigen::Index>(free_index.size());
+  Triplets free_free_entries, free_pinned_entries;
+  free_free_entries.reserve(static_cast<size_t>(triangles.rows()) * 9 * D * D);
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    const Eigen::Matrix<double, 3 * D, 3 * D> block = block_of(f);
+    for (int r = 0; r < 3 * D; ++r) {
+      const int row_vertex = free_index[static_cast<size_t>(triangles(f, r / D))];
+      if (row_vertex < 0) continue;
+      for (int c = 0; c < 3 * D; ++c) {
+        const int v = triangles(f, c / D);
+        const int col_vertex = free_index[static_cast<size_t>(v)];
+        if (col_vertex >= 0)
+          free_free_entries.emplace_back(D * row_vertex + r % D, D * col_vertex + c % D, block(r, c));
+        else
+          free_pinned_entries.emplace_back(D * row_vertex + r % D, D * v + c % D, block(r, c));
+      }
+    }
+  }
+  free_free.resize(D * free_count, D * free_count);
+  free_free.setFromTriplets(free_free_entries.begin(), free_free_entries.end());
+  free_pinned.resize(D * free_count, D * n);
+  free_pinned.setFromTriplets(free_pinned_entries.begin(), free_pinned_entries.end());
+}
+
 // The 3 x 3 scalar rows shared by both systems: two edges and the centroid
 // (weighted by sqrt(centroid_weight)).
 Eigen::Matrix3d decoupled_rows(double centroid_weight) {
@@ -213,59 +249,23 @@ NormalGuidedDeformation::NormalGuidedDeformation(const Triangles& triangles, con
 
 void NormalGuidedDeformation::decoupled_matrices(Eigen::SparseMatrix<double>& free_free,
                                                  Eigen::SparseMatrix<double>& free_pinned) const {
-  const auto n = static_cast<Eigen::Index>(system_->free_index.size());
   const Eigen::Matrix3d b = decoupled_rows(centroid_weight_);
   const Eigen::Matrix3d local = b.transpose() * b;
-  Triplets free_free_entries, free_pinned_entries;
-  free_free_entries.reserve(static_cast<size_t>(triangles_.rows()) * 9);
-  for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
-    for (int r = 0; r < 3; ++r) {
-      const int row = system_->free_index[static_cast<size_t>(triangles_(f, r))];
-      if (row < 0) continue;
-      for (int c = 0; c < 3; ++c) {
-        const int v = triangles_(f, c);
-        const int col = system_->free_index[static_cast<size_t>(v)];
-        const double value = row_weights_[f] * local(r, c);
-        if (col >= 0)
-          free_free_entries.emplace_back(row, col, value);
-        else
-          free_pinned_entries.emplace_back(row, v, value);
-      }
-    }
-  }
-  free_free.resize(system_->free_count, system_->free_count);
-  free_free.setFromTriplets(free_free_entries.begin(), free_free_entries.end());
-  free_pinned.resize(system_->free_count, n);
-  free_pinned.setFromTriplets(free_pinned_entries.begin(), free_pinned_entries.end());
+  normal_matrices<1>(
+      triangles_, system_->free_index, system_->free_count,
+      [&](Eigen::Index f) -> Eigen::Matrix3d { return row_weights_[f] * local; }, free_free, free_pinned);
 }
 
 void NormalGuidedDeformation::coupled_matrices(Eigen::SparseMatrix<double>& free_free,
                                                Eigen::SparseMatrix<double>& free_pinned) const {
-  const Eigen::Index n = static_cast<Eigen::Index>(system_->free_index.size());
   const Eigen::Matrix3d b = decoupled_rows(centroid_weight_);
   const Eigen::Matrix3d shape = b.transpose() * b;
-  Triplets free_free_entries, free_pinned_entries;
-  free_free_entries.reserve(static_cast<size_t>(triangles_.rows()) * 81);
-  for (Eigen::Index f = 0; f < triangles_.rows(); ++f) {
-    const Eigen::Matrix<double, 9, 9> local =
-        row_weights_[f] * coupled_normal_block(shape, targets_.row(f).transpose(), omega_);
-    for (int r = 0; r < 9; ++r) {
-      const int row_vertex = system_->free_index[static_cast<size_t>(triangles_(f, r / 3))];
-      if (row_vertex < 0) continue;
-      for (int c = 0; c < 9; ++c) {
-        const int v = triangles_(f, c / 3);
-        const int col_vertex = system_->free_index[static_cast<size_t>(v)];
-        if (col_vertex >= 0)
-          free_free_entries.emplace_back(3 * row_vertex + r % 3, 3 * col_vertex + c % 3, local(r, c));
-        else
-          free_pinned_entries.emplace_back(3 * row_vertex + r % 3, 3 * v + c % 3, local(r, c));
-      }
-    }
-  }
-  free_free.resize(3 * system_->free_count, 3 * system_->free_count);
-  free_free.setFromTriplets(free_free_entries.begin(), free_free_entries.end());
-  free_pinned.resize(3 * system_->free_count, 3 * n);
-  free_pinned.setFromTriplets(free_pinned_entries.begin(), free_pinned_entries.end());
+  normal_matrices<3>(
+      triangles_, system_->free_index, system_->free_count,
+      [&](Eigen::Index f) -> Eigen::Matrix<double, 9, 9> {
+        return row_weights_[f] * coupled_normal_block(shape, targets_.row(f).transpose(), omega_);
+      },
+      free_free, free_pinned);
 }
 
 void NormalGuidedDeformation::factor_coupled() {

@@ -3,6 +3,7 @@ and the bpy wheels of scripts/setup_bpy.sh, 4.2 LTS and the newest): presets,
 warnings, one set of settings, shape keys, scale, several objects, shared
 meshes, errors that select what is wrong, the Gauss image, the headless
 one-liner. Scenarios: tests/blender_scripts/user_scenarios.py."""
+
 import re
 import shutil
 import subprocess
@@ -30,6 +31,7 @@ BATCH = (
     "presets",
     "better",
     "developable",
+    "blender_torus",
     "menu_uses_panel",
     "shape_key",
     "scaled",
@@ -112,6 +114,20 @@ def test_an_already_developable_mesh_is_said_so_without_advice(batch):
         assert rec["verdict"] == "DEVELOPABLE", rec["message"]
         assert rec["message"].startswith("%s: nothing to do, %s" % (name, words)), rec["message"]
         assert "Try" not in rec["message"] and rec["move_percent"] == 0.0
+
+
+def test_blenders_torus_is_not_crumpled(batch):
+    """Blender's torus primitive, pressed Run as it comes: its flat rings stay
+    flat and ruled (the result never has fewer flat-and-ruled vertices), and
+    a result that is no better says so with the key left at 0."""
+    r = batched(batch, "blender_torus")
+    rec = r["record"]
+    assert r["result"] == ["FINISHED"], r["error"]
+    assert rec["verdict"] in ("IMPROVED", "GATHERED", "UNCHANGED"), rec["message"]
+    if rec["verdict"] == "UNCHANGED":
+        assert "crumpling flat vertices" in rec["message"], rec["message"]
+    else:
+        assert rec["ruled_after"] >= rec["ruled_before"], rec
 
 
 def test_the_menu_entry_uses_the_panels_values(batch):

@@ -163,9 +163,12 @@ void DeformationRun::iterate(Judge& judge, Choice& choice, const Progress& progr
   // step): its memory goes before least motion's candidates are polished
   // (five differences of positions and steps, 240 bytes a vertex).
   acceleration_.reset();
-  // The iterate kept competes with candidates (select): its rulings too.
-  if (choice.origin == ResultOrigin::deformation)
+  // The iterate kept competes with candidates (select): its rulings too, and
+  // on an object they are held to the rule (admit) now that they are read.
+  if (choice.origin == ResultOrigin::deformation) {
     judge.complete(choice.measured, choice.positions, face_normals(choice.positions, input.triangles));
+    if (!judge.admissible(choice.measured)) choice = Choice::input(input, judge.input());
+  }
   stats_.time_iterate_ms = elapsed_ms(iterate_start);
 }
 

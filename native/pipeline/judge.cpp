@@ -82,6 +82,7 @@ void Judge::measure_rulings(Measured& measured, const Positions& positions, cons
       vertex_shares(measured.defects, ruling_spreads(positions, triangles_, normals, connectivity_, interior_),
                     interior_)
           .ruled;
+  measured.figures.ruled_read = true;
 }
 
 bool Judge::admissible(const Measured& candidate) {

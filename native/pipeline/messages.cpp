@@ -4,6 +4,7 @@
 #include "core/mesh_input.h"
 
 #include <cstdio>
+#include <cstring>
 
 namespace developable {
 namespace {
@@ -39,7 +40,9 @@ std::string unchanged_message(const Rejections& r, const PipelineStats& stats) {
       break;
   }
   std::string reasons, advice;
-  auto add = [](std::string& list, const std::string& item) { list += (list.empty() ? "" : ", ") + item; };
+  auto add = [](std::string& list, const std::string& item) {
+    if (list.find(item) == std::string::npos) list += (list.empty() ? "" : ", ") + item;
+  };
   if (r.folded > 0) {
     add(reasons, "turning faces over (at least " + std::to_string(r.fewest_turned_over) + ")");
     add(advice, "a smaller tolerance");
@@ -51,6 +54,10 @@ std::string unchanged_message(const Rejections& r, const PipelineStats& stats) {
   if (r.flat_share_fell > 0) {
     add(reasons, "losing flat vertices");
     if (r.folded == 0) add(advice, "a larger tolerance");
+  }
+  if (r.ruled_share_fell > 0) {
+    add(reasons, "crumpling flat vertices into facets (fewer flat and ruled)");
+    add(advice, "segmentation with more patches");
   }
   if (r.creased > 0) {
     add(reasons, "creasing the surface inside a patch");
@@ -88,17 +95,25 @@ std::string result_message(const PipelineStats& stats, const Rejections& rejecte
     std::snprintf(largest, sizeof largest, "the largest |defect| grew from %.4g to %.4g rad (+%.3g %%)",
                   stats.max_defect_before, stats.max_defect_after,
                   100.0 * (stats.max_defect_after / stats.max_defect_before - 1.0));
-  char text[320];
+  // A sheet's rulings are not held by the rule (admit), only said.
+  char ruled[160] = "";
+  if (stats.shares_after.ruled < stats.shares_before.ruled)
+    std::snprintf(ruled, sizeof ruled,
+                  "fewer vertices are flat and ruled (%.1f %% -> %.1f %%): some flat ones are "
+                  "crumpled into facets",
+                  100.0 * stats.shares_before.ruled, 100.0 * stats.shares_after.ruled);
+  char text[480];
   if (stats.mean_defect_after > stats.mean_defect_before) {
     std::snprintf(text, sizeof text,
                   "Improved, but the mean |defect| grew by %.1f %%%s%s: a whole object keeps its total "
-                  "curvature, which gathered on the seams between its pieces.",
+                  "curvature, which gathered on the seams between its pieces.%s%s",
                   100.0 * (stats.mean_defect_after / stats.mean_defect_before - 1.0), largest[0] ? " and " : "",
-                  largest);
+                  largest, ruled[0] ? " Also " : "", ruled[0] ? ruled : "");
+    if (ruled[0]) std::strncat(text, ".", sizeof text - std::strlen(text) - 1);
     return text;
   }
-  if (largest[0]) return std::string("Improved, but ") + largest + ".";
-  return "";
+  if (!largest[0] && !ruled[0]) return "";
+  return std::string("Improved, but ") + largest + (largest[0] && ruled[0] ? ", and " : "") + ruled + ".";
 }
 
 // The largest distance a vertex may move from its input position (caller's

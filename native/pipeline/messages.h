@@ -15,8 +15,8 @@ namespace developable {
 std::string unchanged_message(const Rejections& rejections, const PipelineStats& stats);
 
 // The result's message: unchanged_message for an unchanged run; for an
-// improved one every figure that got worse (mean and largest |defect|), or
-// empty when none did.
+// improved one every figure that got worse (mean and largest |defect|, the
+// flat-and-ruled share), or empty when none did.
 std::string result_message(const PipelineStats& stats, const Rejections& rejections);
 
 // An unchanged run's message once the mesh split twice as finely

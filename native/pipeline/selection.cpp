@@ -14,6 +14,7 @@ Admission admit(const Figures& candidate, const Figures& input, bool closed, boo
   const double input_mean = object ? input.mean_inside : input.mean;
   a.defect_grew = mean > input_mean * (closed ? 1.0 + kClosedMeshGrowth : 1.0);
   a.flat_share_fell = candidate.flat < input.flat;
+  a.ruled_share_fell = object && candidate.ruled_read && candidate.ruled < input.ruled;
   a.no_score_gain = !(candidate.score < (1.0 - kLeastGain) * input.score);
   a.no_visible_gain = !visible_gain(candidate, input);
   return a;
@@ -98,14 +99,16 @@ void Rejections::record(const Admission& admission, double score, double input_s
   if (admission.creased) ++creased;
   if (admission.defect_grew) ++defect_grew;
   if (admission.flat_share_fell) ++flat_share_fell;
+  if (admission.ruled_share_fell) ++ruled_share_fell;
   if (admission.no_visible_gain && !admission.no_score_gain && !admission.folded && !admission.creased &&
-      !admission.defect_grew && !admission.flat_share_fell)
+      !admission.defect_grew && !admission.flat_share_fell && !admission.ruled_share_fell)
     ++no_visible_gain;
 }
 
 UnchangedReason unchanged_reason(const Rejections& r, double flat_share_before) {
   if (r.developable_patches) return UnchangedReason::developable_piecewise;
-  const bool nothing_broke = r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0 && r.creased == 0;
+  const bool nothing_broke =
+      r.folded == 0 && r.defect_grew == 0 && r.flat_share_fell == 0 && r.ruled_share_fell == 0 && r.creased == 0;
   if (nothing_broke && flat_share_before >= 1.0) return UnchangedReason::already_flat;
   if (r.no_visible_gain > 0) return UnchangedReason::no_visible_gain;
   return nothing_broke ? UnchangedReason::no_better_iterate : UnchangedReason::rejected;

@@ -11,6 +11,7 @@ stderr before each so that a test can read each one's messages apart; an
 exception in one is its RESULT ({"exception": traceback}) and the next one
 runs. Meshes are generated with numpy (seeded), here or by devkit/meshes.py,
 so nothing depends on the add-on's own helpers."""
+
 import importlib
 import json
 import pathlib
@@ -240,6 +241,20 @@ def s_developable():
         kb = ob.data.shape_keys.key_blocks.get("Developable") if ob.data.shape_keys else None
         out[name] = {"result": res, "error": err, "record": record(ob), "key_value": kb.value if kb else None}
     emit(out)
+
+
+def s_blender_torus():
+    """Blender's own torus (Add > Mesh > Torus, 48 x 12 quads) with General:
+    its top and bottom rings are flat and ruled as they stand, and the polish
+    of the input bought a lower mean curvature by zigzagging them (16.7 % -> 0
+    flat and ruled) until the rule held a whole object's flat-and-ruled share."""
+    clear()
+    bpy.ops.mesh.primitive_torus_add()
+    ob = bpy.context.object
+    res, err = run()
+    rec = dict(record(ob), ruled_before=ob.developable.ruled_before, ruled_after=ob.developable.ruled_after)
+    kb = ob.data.shape_keys.key_blocks.get("Developable") if ob.data.shape_keys else None
+    emit({"result": res, "error": err, "record": rec, "key_value": kb.value if kb else None})
 
 
 def s_menu_uses_panel():

@@ -64,6 +64,24 @@ TEST(Selection, AdmitHoldsAnObjectsMeanInsideItsPieces) {
   EXPECT_TRUE(admit(inside_grew, input, false, true).defect_grew);  // an open object: no growth
 }
 
+// On a whole object whose rulings were read, the flat-and-ruled share may not
+// fall below the input's (Blender's torus: its flat rings zigzagged, 16.7 % ->
+// 0 flat and ruled, for a lower mean); unread (a deformation iterate) or on a
+// sheet it is not held.
+TEST(Selection, AdmitHoldsAnObjectsFlatAndRuledShareWhereItWasRead) {
+  Figures input = figures(0.167, 0.042, 0.07, 0.04);
+  input.ruled = 0.167;
+  Figures zigzag = figures(0.167, 0.035, 0.06, 0.03);
+  zigzag.ruled = 0.0;
+  EXPECT_TRUE(admit(zigzag, input, true, true).ok());  // unread
+  zigzag.ruled_read = true;
+  const Admission a = admit(zigzag, input, true, true);
+  EXPECT_TRUE(a.ruled_share_fell && !a.flat_share_fell && !a.defect_grew && !a.no_visible_gain);
+  EXPECT_FALSE(admit(zigzag, input, true, false).ruled_share_fell);  // not an object
+  zigzag.ruled = 0.167;
+  EXPECT_TRUE(admit(zigzag, input, true, true).ok());
+}
+
 // Crumpled: more than kCrumpleSlack (3 points) of the interior vertices more
 // flat-but-not-ruled than the input.
 TEST(Selection, CrumpledIsMoreThanThreePointsMoreFlatButNotRuledThanTheInput) {

@@ -3,6 +3,7 @@ cover, numerical extremes, limits, cancellation, threads and the fuzz corpus,
 through the C ABI and the command-line tool. Every case ends in a result that
 is right or in one clear status naming the problem: never a crash, never NaN
 positions, never a partial output file."""
+
 import ctypes
 import json
 import os
@@ -121,7 +122,10 @@ def test_one_triangle_has_no_interior_vertex(library):
 
 
 def test_one_triangle_through_the_tool(tool_path, tmp_path):
-    tool_refuses(tool_path, tmp_path, *one_triangle(), "no interior vertex")
+    """Nothing to lower and nothing to refuse: written back as it is, with a note."""
+    p, t = one_triangle()
+    out_p, out_t = tool_runs(tool_path, tmp_path, p, t)
+    assert np.array_equal(out_p, read_obj(tmp_path / "in.obj")[0]) and np.array_equal(out_t, t)
 
 
 def test_infinite_coordinate_through_the_tool(tool_path, tmp_path):
@@ -240,8 +244,15 @@ def test_isolated_vertices_through_the_tool(tool_path, tmp_path):
 
 
 def test_no_interior_vertex_through_the_tool(tool_path, tmp_path):
+    """Two triangles folded along their edge: no vertex inside, so no curvature to lower;
+    the tool writes them back unchanged and says why (tests/test_pattern_tool.py unfolds such
+    a band). A polygon soup, also without an interior vertex, stays an error (below)."""
     p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.3]], float)
-    tool_refuses(tool_path, tmp_path, p, np.array([[0, 1, 2], [1, 3, 2]]), "no interior vertex")
+    t = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
+    write_obj(tmp_path / "in.obj", p, t)
+    run = run_tool(tool_path, tmp_path / "in.obj", tmp_path / "out.obj")
+    assert run.returncode == 0 and "note: Returned the input unchanged: every vertex is on the boundary" in run.stderr
+    assert np.array_equal(read_obj(tmp_path / "out.obj")[0], read_obj(tmp_path / "in.obj")[0])
 
 
 def test_every_vertex_pinned_through_the_tool(tool_path, tmp_path):

@@ -1,13 +1,15 @@
 """The tool's pattern options: --pattern, --sheet, --scale, --unit and the
 pattern part of --report."""
+
 import json
+import pathlib
 import subprocess
 import xml.etree.ElementTree as ET
 
 import numpy as np
 
 from devkit import meshes
-from devkit.obj import write_obj
+from devkit.obj import read_obj, write_obj
 
 
 def run_tool(tool_path, *args):
@@ -164,3 +166,38 @@ def test_tool_glue_tabs(tool_path, tmp_path):
         "5",
     )
     assert proc.returncode == 2 and "not both" in proc.stderr
+
+
+def frustum_band(around=32, r0=1.0, r1=0.5, height=1.0):
+    """A cone frustum one face high, as sheet metal draws a transition: every
+    vertex on its two rims, none interior."""
+    t = np.arange(around) * 2 * np.pi / around
+    rims = [np.c_[r * np.cos(t), r * np.sin(t), np.full(around, z)] for r, z in ((r0, 0.0), (r1, height))]
+    i, j = np.arange(around), (np.arange(around) + 1) % around
+    quads = np.c_[i, j, around + j, around + i]
+    return np.vstack(rims), np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+
+
+def test_a_band_without_interior_vertex_is_written_unchanged_and_unfolds(tool_path, tmp_path):
+    """No vertex inside: no curvature to lower, and the band unfolds as it
+    stands into one piece (the engine refuses such a mesh; the tool writes it
+    back with a note, as the add-on says it, and still makes its pattern)."""
+    positions, triangles = frustum_band()
+    mesh = tmp_path / "frustum.obj"
+    write_obj(mesh, positions, triangles)
+    report = tmp_path / "report.json"
+    out = tmp_path / "out.obj"
+    proc = run_tool(
+        tool_path, mesh, out, "--quiet", "--pattern", tmp_path / "p.svg", "--scale", "auto", "--report", report
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr.startswith("note: Returned the input unchanged: every vertex is on the boundary"), proc.stderr
+    assert "WARNING" not in proc.stderr
+    back, faces = read_obj(out)
+    given, given_faces = read_obj(mesh)
+    assert np.array_equal(back, given) and np.array_equal(faces, given_faces)
+    data = json.loads(report.read_text())
+    assert data["stats"]["result"] == "unchanged" and data["stats"]["unchanged_reason"] == "no_interior_vertex"
+    st = data["pattern"]["stats"]
+    assert st["pieces"] == 1 and st["max_strain"] < 1e-9
+    assert all(pathlib.Path(f).exists() for f in data["pattern"]["files"])

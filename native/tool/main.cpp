@@ -3,6 +3,8 @@
 #include "api/developable.h"
 #include "mesh_io.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -79,7 +81,8 @@ const char* const usage_text =
     "The output is never folded or worse than the input (mean |defect|, flat share):\n"
     "when no such result exists the input is written unchanged and a line\n"
     "'WARNING: ...' on stderr says why (also with --quiet); an input that is\n"
-    "developable already is written unchanged with a line 'note: ...'.\n"
+    "developable already, or has no interior vertex (a band one face high: it\n"
+    "unfolds as it stands), is written unchanged with a line 'note: ...'.\n"
     "\n"
     "Exit status: 0 done, 1 bad usage or file error, 2 the engine refused the mesh.\n";
 
@@ -257,6 +260,17 @@ std::string pattern_json(const dev_pattern* pattern, const dev_pattern_params& p
   return json.str();
 }
 
+// Writes `text` to `path` whole or not at all (through a temporary file); dies on an error.
+void write_whole(const std::string& path, const std::string& text) {
+  const std::string temporary = path + ".partial";
+  {
+    std::ofstream out(temporary);
+    out << text;
+    if (!out) die(1, "cannot write report " + path);
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) die(1, "cannot write report " + path);
+}
+
 void write_report(const std::string& path, const dev_result* result, const dev_stats& s, const dev_params& params,
                   const std::string& pattern) {
   std::ostringstream json;
@@ -322,13 +336,7 @@ void write_report(const std::string& path, const dev_result* result, const dev_s
   json << "\n  ]";
   if (!pattern.empty()) json << ",\n  \"pattern\": " << pattern;
   json << "\n}\n";
-  const std::string temporary = path + ".partial";
-  {
-    std::ofstream out(temporary);
-    out << json.str();
-    if (!out) die(1, "cannot write report " + path);
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) die(1, "cannot write report " + path);
+  write_whole(path, json.str());
 }
 
 // The command line, parsed.
@@ -483,23 +491,60 @@ Arguments parse_arguments(int argc, char** argv) {
   return a;
 }
 
-// The flat pattern of the result (dev_unfold on its patches), its stats and
-// its report section; dies on an error.
-std::string unfold_result(const dev_result* result, const dev_stats& stats, const std::vector<double>& positions,
-                          const developable_tool::RawMesh& mesh, Arguments& a, dev_pattern_stats& pattern_stats) {
-  std::vector<int32_t> patches(static_cast<size_t>(stats.faces));
-  dev_result_patch_ids(result, patches.data(), stats.faces);
+// The flat pattern of `positions` on the mesh's triangles (dev_unfold on
+// `patches`, one per triangle, or one patch when empty), its stats and its
+// report section; dies on an error.
+std::string unfold(const std::vector<double>& positions, const developable_tool::RawMesh& mesh,
+                   const std::vector<int32_t>& patches, Arguments& a, dev_pattern_stats& pattern_stats) {
   a.pattern_params.svg_path = a.pattern_file.c_str();
   dev_pattern* pattern = nullptr;
   char message[1024];
-  const int32_t unfolded =
-      dev_unfold(positions.data(), mesh.vertex_count(), mesh.triangles.data(), mesh.triangle_count(), patches.data(),
-                 &a.pattern_params, nullptr, nullptr, &pattern, message, sizeof message);
+  const int32_t unfolded = dev_unfold(positions.data(), mesh.vertex_count(), mesh.triangles.data(),
+                                      mesh.triangle_count(), patches.empty() ? nullptr : patches.data(),
+                                      &a.pattern_params, nullptr, nullptr, &pattern, message, sizeof message);
   if (unfolded != DEV_STATUS_OK) die(2, "pattern: " + std::string(message));
   dev_pattern_stats_get(pattern, &pattern_stats);
   std::string report = pattern_json(pattern, a.pattern_params);
   dev_pattern_free(pattern);
   return report;
+}
+
+// Whether two vertices of the mesh lie on one point: its faces are not
+// joined there (a polygon soup, an unwelded seam).
+bool has_coincident_vertices(const developable_tool::RawMesh& mesh) {
+  std::vector<std::array<double, 3>> points(static_cast<size_t>(mesh.vertex_count()));
+  for (size_t v = 0; v < points.size(); ++v)
+    points[v] = {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+  std::sort(points.begin(), points.end());
+  return std::adjacent_find(points.begin(), points.end()) != points.end();
+}
+
+// A mesh without an interior vertex (a band or tube one face wide, a
+// triangle fan) has no angle defect to lower, and unfolds without stretching
+// as it stands: written unchanged, with its pattern when asked (one patch,
+// which the unfolding opens where it must). The engine refuses it
+// (DEV_STATUS_NO_INTERIOR_VERTEX); the add-on says the same.
+int write_unchanged_without_interior(const developable_tool::RawMesh& mesh, Arguments& a) {
+  std::string error;
+  if (!developable_tool::write_mesh(a.files[1], mesh.positions, mesh.triangles, error)) die(1, error);
+  dev_pattern_stats pattern_stats{};
+  const std::string pattern =
+      a.pattern_file.empty() ? std::string() : unfold(mesh.positions, mesh, {}, a, pattern_stats);
+  if (!a.report_file.empty())
+    write_whole(a.report_file, "{\n  \"engine_version\": \"" + std::string(dev_version_string()) +
+                                   "\",\n  \"stats\": {\"vertices\": " + std::to_string(mesh.vertex_count()) +
+                                   ", \"faces\": " + std::to_string(mesh.triangle_count()) +
+                                   ", \"interior_vertices\": 0, \"result\": \"unchanged\", \"unchanged_reason\": "
+                                   "\"no_interior_vertex\"}" +
+                                   (pattern.empty() ? "" : ",\n  \"pattern\": " + pattern) + "\n}\n");
+  std::fprintf(stderr,
+               "note: Returned the input unchanged: every vertex is on the boundary, so it has no curvature to "
+               "lower and unfolds without stretching as it stands.\n");
+  if (!a.quiet && !a.pattern_file.empty())
+    std::fprintf(stderr, "pattern: %lld pieces on %lld sheets at scale %g; strain max %.3g %%\n",
+                 static_cast<long long>(pattern_stats.pieces), static_cast<long long>(pattern_stats.sheets),
+                 pattern_stats.scale, 100 * pattern_stats.max_strain);
+  return 0;
 }
 
 // The run's figures on stderr (not with --quiet).
@@ -570,6 +615,8 @@ int main(int argc, char** argv) {
                                  mesh.triangle_count(), pinned.empty() ? nullptr : pinned.data(), &a.params,
                                  a.quiet ? nullptr : print_progress, nullptr, &result, message, sizeof message);
   if (!a.quiet) std::fprintf(stderr, "\n");
+  if (status == DEV_STATUS_NO_INTERIOR_VERTEX && !has_coincident_vertices(mesh))
+    return write_unchanged_without_interior(mesh, a);
   if (status != DEV_STATUS_OK) die(2, std::string(a.files[0]) + ": " + message);
   dev_stats stats;
   dev_result_stats(result, &stats);
@@ -577,8 +624,12 @@ int main(int argc, char** argv) {
   dev_result_positions(result, positions.data(), static_cast<int64_t>(positions.size()));
   if (!developable_tool::write_mesh(a.files[1], positions, mesh.triangles, error)) die(1, error);
   dev_pattern_stats pattern_stats{};
-  const std::string pattern_report =
-      a.pattern_file.empty() ? std::string() : unfold_result(result, stats, positions, mesh, a, pattern_stats);
+  std::string pattern_report;
+  if (!a.pattern_file.empty()) {
+    std::vector<int32_t> patches(static_cast<size_t>(stats.faces));
+    dev_result_patch_ids(result, patches.data(), stats.faces);
+    pattern_report = unfold(positions, mesh, patches, a, pattern_stats);
+  }
   if (!a.report_file.empty()) write_report(a.report_file, result, stats, a.params, pattern_report);
   dev_result_free(result);
   if (!a.quiet) print_summary(stats, a.pattern_file.empty() ? nullptr : &pattern_stats);

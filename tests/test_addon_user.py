@@ -3,7 +3,6 @@ and the bpy wheels of scripts/setup_bpy.sh, 4.2 LTS and the newest): presets,
 warnings, one set of settings, shape keys, scale, several objects, shared
 meshes, errors that select what is wrong, the Gauss image, the headless
 one-liner. Scenarios: tests/blender_scripts/user_scenarios.py."""
-
 import re
 import shutil
 import subprocess

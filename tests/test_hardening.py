@@ -3,7 +3,6 @@ cover, numerical extremes, limits, cancellation, threads and the fuzz corpus,
 through the C ABI and the command-line tool. Every case ends in a result that
 is right or in one clear status naming the problem: never a crash, never NaN
 positions, never a partial output file."""
-
 import ctypes
 import json
 import os

@@ -1,6 +1,5 @@
 """The tool's pattern options: --pattern, --sheet, --scale, --unit and the
 pattern part of --report."""
-
 import json
 import pathlib
 import subprocess
@@ -168,21 +167,12 @@ def test_tool_glue_tabs(tool_path, tmp_path):
     assert proc.returncode == 2 and "not both" in proc.stderr
 
 
-def frustum_band(around=32, r0=1.0, r1=0.5, height=1.0):
-    """A cone frustum one face high, as sheet metal draws a transition: every
-    vertex on its two rims, none interior."""
-    t = np.arange(around) * 2 * np.pi / around
-    rims = [np.c_[r * np.cos(t), r * np.sin(t), np.full(around, z)] for r, z in ((r0, 0.0), (r1, height))]
-    i, j = np.arange(around), (np.arange(around) + 1) % around
-    quads = np.c_[i, j, around + j, around + i]
-    return np.vstack(rims), np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
-
-
 def test_a_band_without_interior_vertex_is_written_unchanged_and_unfolds(tool_path, tmp_path):
-    """No vertex inside: no curvature to lower, and the band unfolds as it
+    """A cone frustum one face high, as sheet metal draws a transition. No
+    vertex inside: no curvature to lower, and the band unfolds as it
     stands into one piece (the engine refuses such a mesh; the tool writes it
     back with a note, as the add-on says it, and still makes its pattern)."""
-    positions, triangles = frustum_band()
+    positions, triangles = meshes.cone(rows=2, cols=32, r0=1.0, r1=0.5, height=1.0)  # one face high
     mesh = tmp_path / "frustum.obj"
     write_obj(mesh, positions, triangles)
     report = tmp_path / "report.json"

@@ -4,7 +4,6 @@
 #include "core/mesh_input.h"
 
 #include <cstdio>
-#include <cstring>
 
 namespace developable {
 namespace {
@@ -99,18 +98,15 @@ std::string result_message(const PipelineStats& stats, const Rejections& rejecte
   char ruled[160] = "";
   if (stats.shares_after.ruled < stats.shares_before.ruled)
     std::snprintf(ruled, sizeof ruled,
-                  "fewer vertices are flat and ruled (%.1f %% -> %.1f %%): some flat ones are "
-                  "crumpled into facets",
+                  "fewer vertices are flat and ruled (%.1f %% -> %.1f %%): some flat ones are crumpled into facets",
                   100.0 * stats.shares_before.ruled, 100.0 * stats.shares_after.ruled);
-  char text[480];
   if (stats.mean_defect_after > stats.mean_defect_before) {
-    std::snprintf(text, sizeof text,
-                  "Improved, but the mean |defect| grew by %.1f %%%s%s: a whole object keeps its total "
-                  "curvature, which gathered on the seams between its pieces.%s%s",
-                  100.0 * (stats.mean_defect_after / stats.mean_defect_before - 1.0), largest[0] ? " and " : "",
-                  largest, ruled[0] ? " Also " : "", ruled[0] ? ruled : "");
-    if (ruled[0]) std::strncat(text, ".", sizeof text - std::strlen(text) - 1);
-    return text;
+    char grew[96];
+    std::snprintf(grew, sizeof grew, "the mean |defect| grew by %.1f %%",
+                  100.0 * (stats.mean_defect_after / stats.mean_defect_before - 1.0));
+    return std::string("Improved, but ") + grew + (largest[0] ? " and " : "") + largest +
+           ": a whole object keeps its total curvature, which gathered on the seams between its pieces." +
+           (ruled[0] ? std::string(" Also ") + ruled + "." : "");
   }
   if (!largest[0] && !ruled[0]) return "";
   return std::string("Improved, but ") + largest + (largest[0] && ruled[0] ? ", and " : "") + ruled + ".";

@@ -519,32 +519,15 @@ bool has_coincident_vertices(const developable_tool::RawMesh& mesh) {
   return std::adjacent_find(points.begin(), points.end()) != points.end();
 }
 
-// A mesh without an interior vertex (a band or tube one face wide, a
-// triangle fan) has no angle defect to lower, and unfolds without stretching
-// as it stands: written unchanged, with its pattern when asked (one patch,
-// which the unfolding opens where it must). The engine refuses it
-// (DEV_STATUS_NO_INTERIOR_VERTEX); the add-on says the same.
-int write_unchanged_without_interior(const developable_tool::RawMesh& mesh, Arguments& a) {
-  std::string error;
-  if (!developable_tool::write_mesh(a.files[1], mesh.positions, mesh.triangles, error)) die(1, error);
-  dev_pattern_stats pattern_stats{};
-  const std::string pattern =
-      a.pattern_file.empty() ? std::string() : unfold(mesh.positions, mesh, {}, a, pattern_stats);
-  if (!a.report_file.empty())
-    write_whole(a.report_file, "{\n  \"engine_version\": \"" + std::string(dev_version_string()) +
-                                   "\",\n  \"stats\": {\"vertices\": " + std::to_string(mesh.vertex_count()) +
-                                   ", \"faces\": " + std::to_string(mesh.triangle_count()) +
-                                   ", \"interior_vertices\": 0, \"result\": \"unchanged\", \"unchanged_reason\": "
-                                   "\"no_interior_vertex\"}" +
-                                   (pattern.empty() ? "" : ",\n  \"pattern\": " + pattern) + "\n}\n");
+// The pattern's figures on stderr (not with --quiet).
+void print_pattern_summary(const dev_pattern_stats& pattern_stats) {
   std::fprintf(stderr,
-               "note: Returned the input unchanged: every vertex is on the boundary, so it has no curvature to "
-               "lower and unfolds without stretching as it stands.\n");
-  if (!a.quiet && !a.pattern_file.empty())
-    std::fprintf(stderr, "pattern: %lld pieces on %lld sheets at scale %g; strain max %.3g %%\n",
-                 static_cast<long long>(pattern_stats.pieces), static_cast<long long>(pattern_stats.sheets),
-                 pattern_stats.scale, 100 * pattern_stats.max_strain);
-  return 0;
+               "pattern: %lld pieces on %lld sheets at scale %g, %lld seams, %lld cut edges, "
+               "%lld splits; strain max %.3g %% mean %.3g %%; %.1f ms\n",
+               static_cast<long long>(pattern_stats.pieces), static_cast<long long>(pattern_stats.sheets),
+               pattern_stats.scale, static_cast<long long>(pattern_stats.seams),
+               static_cast<long long>(pattern_stats.cut_edges), static_cast<long long>(pattern_stats.splits),
+               100 * pattern_stats.max_strain, 100 * pattern_stats.mean_strain, pattern_stats.time_total_ms);
 }
 
 // The run's figures on stderr (not with --quiet).
@@ -567,14 +550,19 @@ void print_summary(const dev_stats& stats, const dev_pattern_stats* pattern_stat
                "flat %.1f %% -> %.1f %%  flat and ruled %.1f %% -> %.1f %%  faces turned over %lld  result %s\n",
                100.0 * stats.flat_share_before, 100.0 * stats.flat_share_after, 100.0 * stats.ruled_share_before,
                100.0 * stats.ruled_share_after, static_cast<long long>(stats.faces_turned_over), result_kind.c_str());
-  if (pattern_stats != nullptr)
+  if (pattern_stats != nullptr) print_pattern_summary(*pattern_stats);
+}
+
+// The pattern's notes, also with --quiet.
+void print_pattern_notes(const dev_pattern_stats& pattern_stats) {
+  if (pattern_stats.glue_tabs_dropped > 0)
+    std::fprintf(stderr, "note: %lld seams have no glue tab: none fitted on either side, not even at half the height\n",
+                 static_cast<long long>(pattern_stats.glue_tabs_dropped));
+  if (pattern_stats.cut_lines_from_hull > 0)
     std::fprintf(stderr,
-                 "pattern: %lld pieces on %lld sheets at scale %g, %lld seams, %lld cut edges, "
-                 "%lld splits; strain max %.3g %% mean %.3g %%; %.1f ms\n",
-                 static_cast<long long>(pattern_stats->pieces), static_cast<long long>(pattern_stats->sheets),
-                 pattern_stats->scale, static_cast<long long>(pattern_stats->seams),
-                 static_cast<long long>(pattern_stats->cut_edges), static_cast<long long>(pattern_stats->splits),
-                 100 * pattern_stats->max_strain, 100 * pattern_stats->mean_strain, pattern_stats->time_total_ms);
+                 "note: the cut lines of %lld pieces follow the offset of their convex hull (the seam "
+                 "allowance is wider than asked in their hollows)\n",
+                 static_cast<long long>(pattern_stats.cut_lines_from_hull));
 }
 
 // What the user must know even with --quiet: when the output is the input,
@@ -586,14 +574,33 @@ void print_notes(const dev_stats& stats, const dev_pattern_stats& pattern_stats)
                              stats.unchanged_reason == DEV_UNCHANGED_ALREADY_FLAT;
   if (stats.result == DEV_RESULT_UNCHANGED || stats.result_message[0] != '\0')
     std::fprintf(stderr, "%s: %s\n", nothing_to_do ? "note" : "WARNING", stats.result_message);
-  if (pattern_stats.glue_tabs_dropped > 0)
-    std::fprintf(stderr, "note: %lld seams have no glue tab: none fitted on either side, not even at half the height\n",
-                 static_cast<long long>(pattern_stats.glue_tabs_dropped));
-  if (pattern_stats.cut_lines_from_hull > 0)
-    std::fprintf(stderr,
-                 "note: the cut lines of %lld pieces follow the offset of their convex hull (the seam "
-                 "allowance is wider than asked in their hollows)\n",
-                 static_cast<long long>(pattern_stats.cut_lines_from_hull));
+  print_pattern_notes(pattern_stats);
+}
+
+// A mesh without an interior vertex (a band or tube one face wide, a
+// triangle fan) has no angle defect to lower, and unfolds without stretching
+// as it stands: written unchanged, with its pattern when asked (one patch,
+// which the unfolding opens where it must). The engine refuses it
+// (DEV_STATUS_NO_INTERIOR_VERTEX); the add-on says the same.
+int write_unchanged_without_interior(const developable_tool::RawMesh& mesh, Arguments& a) {
+  std::string error;
+  if (!developable_tool::write_mesh(a.files[1], mesh.positions, mesh.triangles, error)) die(1, error);
+  dev_pattern_stats pattern_stats{};
+  const std::string pattern =
+      a.pattern_file.empty() ? std::string() : unfold(mesh.positions, mesh, {}, a, pattern_stats);
+  if (!a.report_file.empty())
+    write_whole(a.report_file, "{\n  \"engine_version\": \"" + std::string(dev_version_string()) +
+                                   "\",\n  \"stats\": {\"vertices\": " + std::to_string(mesh.vertex_count()) +
+                                   ", \"faces\": " + std::to_string(mesh.triangle_count()) +
+                                   ", \"interior_vertices\": 0, \"result\": \"unchanged\", \"unchanged_reason\": "
+                                   "\"no_interior_vertex\"}" +
+                                   (pattern.empty() ? "" : ",\n  \"pattern\": " + pattern) + "\n}\n");
+  std::fprintf(stderr,
+               "note: Returned the input unchanged: every vertex is on the boundary, so it has no curvature to "
+               "lower and unfolds without stretching as it stands.\n");
+  if (!a.quiet && !a.pattern_file.empty()) print_pattern_summary(pattern_stats);
+  print_pattern_notes(pattern_stats);
+  return 0;
 }
 
 }  // namespace

@@ -11,7 +11,6 @@ stderr before each so that a test can read each one's messages apart; an
 exception in one is its RESULT ({"exception": traceback}) and the next one
 runs. Meshes are generated with numpy (seeded), here or by devkit/meshes.py,
 so nothing depends on the add-on's own helpers."""
-
 import importlib
 import json
 import pathlib
